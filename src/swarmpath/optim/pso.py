@@ -1,0 +1,258 @@
+"""Standard global-best PSO (the paper's SPSO, section 3.2.1 and 5.2): kernels and optimiser.
+
+Kernels (pure functions, paper equation in each docstring):
+:func:`pso_velocity_update` (eq. 9-10), :func:`pso_position_update` (eq. 11-12, with an
+absorbing box), :func:`linear_inertia_eq32` (eq. 32), :func:`clamp_velocity`.
+:class:`SPSORule` turns them into the per-iteration coefficients of the shared swarm loop, and
+:class:`PSO` (registered as ``pso``) is the optimiser.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmpath.optim._budget import BudgetExhausted, Evaluator
+from swarmpath.optim._checks import check_float
+from swarmpath.optim.base import Optimizer, RunOutput, initial_positions
+from swarmpath.optim.problem import Problem
+from swarmpath.registry import register_optimizer
+
+Array = NDArray[np.float64]
+
+
+def pso_velocity_update(
+    v: Array,
+    x: Array,
+    pbest: Array,
+    gbest: Array,
+    w: float | Array,
+    c1: float | Array,
+    c2: float | Array,
+    r1: Array,
+    r2: Array,
+) -> Array:
+    """Eq. 9-10: v' = w v + c1 r1 (pbest - x) + c2 r2 (gbest - x).
+
+    Parameters
+    ----------
+    v, x, pbest : ndarray of shape (n, dim)
+        Velocities, positions and personal-best positions.
+    gbest : ndarray of shape (dim,) or (n, dim)
+        The global best (or each particle's leader, for MOPSO).
+    w, c1, c2 : float or ndarray of shape (n, 1)
+        Inertia and acceleration coefficients, shared or per particle.
+    r1, r2 : ndarray of shape (n, dim)
+        Random factors (U(0, 1) in SPSO; eq. 23-24 in AMOPSO).
+
+    Returns
+    -------
+    ndarray of shape (n, dim): the new velocities.
+    """
+    return w * v + c1 * r1 * (pbest - x) + c2 * r2 * (gbest - x)
+
+
+def clamp_velocity(v: Array, v_max: Array) -> Array:
+    """Velocity clamping: each component limited to [-v_max_d, v_max_d]; v (n, dim), v_max (dim,)."""
+    return np.clip(v, -v_max, v_max)
+
+
+def pso_position_update(x: Array, v: Array, lower: Array, upper: Array) -> tuple[Array, Array]:
+    """Eq. 11-12, x' = x + v', inside an absorbing box.
+
+    A component that would leave [lower, upper] stops on the wall and its velocity becomes 0
+    (the "absorbing wall" boundary handling): the particle stays feasible and does not keep
+    pushing against the wall.
+
+    Parameters
+    ----------
+    x, v : ndarray of shape (n, dim)
+    lower, upper : ndarray of shape (dim,)
+
+    Returns
+    -------
+    (x', v') : ndarrays of shape (n, dim)
+    """
+    moved = x + v
+    clipped = np.clip(moved, lower, upper)
+    v = np.where(clipped != moved, 0.0, v)
+    return clipped, v
+
+
+def linear_inertia_eq32(t: int, t_max: int, w_max: float = 0.9, w_min: float = 0.4) -> float:
+    """Eq. 32: w(t) = w_max - (w_max - w_min) / t_max * t, linearly from w_max to w_min."""
+    return w_max - (w_max - w_min) / t_max * t
+
+
+@dataclass(frozen=True)
+class SPSORule:
+    """SPSO coefficients: w by eq. 32, constant c1 and c2, r1 and r2 ~ U(0, 1) per component."""
+
+    w_max: float = 0.9
+    w_min: float = 0.4
+    c1: float = 2.0
+    c2: float = 2.0
+
+    def coefficients(
+        self,
+        t: int,
+        t_max: int,
+        pbest_f: Array,
+        gbest_f: float,
+        rng: np.random.Generator,
+        shape: tuple[int, int],
+    ) -> Coefficients:
+        """(w, c1, c2, r1, r2) for the update that produces iteration ``t`` (1 <= t < t_max)."""
+        w = linear_inertia_eq32(t, t_max, self.w_max, self.w_min)
+        r1 = rng.random(shape)
+        r2 = rng.random(shape)
+        return Coefficients(w, self.c1, self.c2, r1, r2)
+
+
+class Coefficients(NamedTuple):
+    """Coefficients of one velocity update (eq. 9-10): floats or arrays of shape (n, 1) / (n, dim)."""
+
+    w: float | Array
+    c1: float | Array
+    c2: float | Array
+    r1: Array
+    r2: Array
+
+
+class UpdateRule(Protocol):
+    """How a PSO variant chooses w, c1, c2, r1, r2 at each iteration (SPSO or AMOPSO1-4)."""
+
+    def coefficients(
+        self,
+        t: int,
+        t_max: int,
+        pbest_f: Array,
+        gbest_f: float,
+        rng: np.random.Generator,
+        shape: tuple[int, int],
+    ) -> Coefficients:
+        """Coefficients of the update that produces iteration ``t`` (1 <= t < t_max).
+
+        ``pbest_f`` (n,) are the personal-best costs, ``gbest_f`` the best of them, ``shape``
+        is (n, dim).
+        """
+        ...
+
+
+def run_gbest_swarm(
+    problem: Problem,
+    evaluate: Evaluator,
+    rule: UpdateRule,
+    *,
+    iterations: int,
+    particles: int,
+    rng: np.random.Generator,
+    initial: Array | None,
+    velocity_clamp: float,
+) -> RunOutput:
+    """The global-best swarm loop of Fig. 1, shared by SPSO and the AMOPSO variants.
+
+    Iteration 1 evaluates the initial swarm (eq. 31, random velocities within the clamp); each
+    further iteration t = 1 .. iterations-1 updates velocities with ``rule``'s coefficients
+    (eq. 9-10), clamps them, moves the particles (eq. 11-12) and evaluates them, then updates
+    the personal and global bests. Evaluations: exactly iterations * particles, unless the
+    evaluator's budget ends the run first.
+    """
+    lower, upper = problem.lower, problem.upper
+    v_max = velocity_clamp * (upper - lower)
+    x = initial_positions(lower, upper, particles, rng, initial)
+    v = v_max * (2.0 * rng.random(x.shape) - 1.0)
+    f = evaluate(x)
+    pbest_x = x.copy()
+    pbest_f = f.copy()
+    g = int(np.argmin(pbest_f))
+    gbest_x = pbest_x[g].copy()
+    gbest_f = float(pbest_f[g])
+    history = np.empty(iterations)
+    history[0] = gbest_f
+    done = 1
+    stop = "iterations"
+    shape = x.shape
+    for t in range(1, iterations):
+        w, c1, c2, r1, r2 = rule.coefficients(t, iterations, pbest_f, gbest_f, rng, shape)
+        v = clamp_velocity(pso_velocity_update(v, x, pbest_x, gbest_x, w, c1, c2, r1, r2), v_max)
+        x, v = pso_position_update(x, v, lower, upper)
+        try:
+            f = evaluate(x)
+        except BudgetExhausted:
+            stop = "max_evaluations"
+            break
+        better = f < pbest_f
+        pbest_x[better] = x[better]
+        pbest_f[better] = f[better]
+        g = int(np.argmin(pbest_f))
+        if pbest_f[g] < gbest_f:
+            gbest_x = pbest_x[g].copy()
+            gbest_f = float(pbest_f[g])
+        history[done] = gbest_f
+        done += 1
+    return RunOutput(gbest_x, gbest_f, history[:done], done, stop, np.array([gbest_f]))
+
+
+def check_inertia_bounds(owner: str, w_min: float, w_max: float) -> None:
+    """ConfigError unless 0 <= w_min <= w_max <= 1.5 (beyond, the swarm diverges)."""
+    check_float(owner, "w_min", w_min, 0.0, 1.5)
+    check_float(owner, "w_max", w_max, 0.0, 1.5)
+    if w_min > w_max:
+        check_float(owner, "w_min", w_min, 0.0, w_max)
+
+
+@register_optimizer("pso")
+@dataclass(frozen=True)
+class PSO(Optimizer):
+    """Standard global-best PSO (SPSO of the paper).
+
+    Parameters
+    ----------
+    w_max, w_min : float
+        Inertia weight decreases linearly from w_max to w_min over the run (eq. 32; 0.9 -> 0.4).
+    c1, c2 : float
+        Cognitive and social acceleration coefficients (2 and 2, as in the paper's SPSO).
+    velocity_clamp : float
+        Largest speed per component as a fraction of the box width (0.2, as pymoo's PSO).
+    """
+
+    w_max: float = 0.9
+    w_min: float = 0.4
+    c1: float = 2.0
+    c2: float = 2.0
+    velocity_clamp: float = 0.2
+
+    def _check_hyperparameters(self, problem: Problem) -> None:
+        owner = self.name
+        check_inertia_bounds(owner, self.w_min, self.w_max)
+        check_float(owner, "c1", self.c1, 0.0, 4.0)
+        check_float(owner, "c2", self.c2, 0.0, 4.0)
+        check_float(owner, "velocity_clamp", self.velocity_clamp, 0.0, 1.0, low_open=True)
+
+    def rule(self) -> SPSORule:
+        """The update rule with this optimiser's coefficients."""
+        return SPSORule(self.w_max, self.w_min, self.c1, self.c2)
+
+    def _run(
+        self,
+        problem: Problem,
+        evaluate: Evaluator,
+        *,
+        iterations: int,
+        particles: int,
+        rng: np.random.Generator,
+        initial: Array | None,
+    ) -> RunOutput:
+        return run_gbest_swarm(
+            problem,
+            evaluate,
+            self.rule(),
+            iterations=iterations,
+            particles=particles,
+            rng=rng,
+            initial=initial,
+            velocity_clamp=self.velocity_clamp,
+        )

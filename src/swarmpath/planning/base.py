@@ -1,0 +1,92 @@
+"""What every offline planner returns: one path per robot with a status and diagnostics.
+
+A planner is configured by its constructor (hyperparameters only) and run by
+``plan(world, rng=...)``; the same configured planner can plan many worlds and seeds.
+"""
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+from typing import Any, ClassVar, Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmpath.types import SeedLike
+
+
+class PlanStatus(enum.Enum):
+    """Why a robot's plan is what it is (OMPL's PlannerStatus in spirit)."""
+
+    EXACT = "exact"                  # a path to the goal
+    APPROXIMATE = "approximate"      # a path that ends near, not at, the goal
+    TIMEOUT = "timeout"              # the budget ran out before a path was found
+    INVALID_START = "invalid_start"  # the start is blocked or outside the planner's grid
+    INVALID_GOAL = "invalid_goal"    # the goal is blocked or outside the planner's grid
+    INFEASIBLE = "infeasible"        # no path exists
+
+
+@dataclass(frozen=True)
+class RobotPlan:
+    """The plan of one robot: ``path`` of shape (n_points, 2) in world units, or None."""
+
+    robot_id: str
+    status: PlanStatus
+    path: NDArray[np.float64] | None = None
+    diagnostics: Mapping[str, Any] = field(default_factory=dict)
+
+    def __bool__(self) -> bool:
+        return self.path is not None and self.status in (PlanStatus.EXACT, PlanStatus.APPROXIMATE)
+
+    @property
+    def length(self) -> float | None:
+        """Euclidean length of the path (world units), None without a path."""
+        if self.path is None:
+            return None
+        return float(np.linalg.norm(np.diff(self.path, axis=0), axis=1).sum())
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Plans of all robots of a world, in the world's robot order."""
+
+    planner: str
+    robots: tuple[RobotPlan, ...]
+    wall_time_s: float
+    diagnostics: Mapping[str, Any] = field(default_factory=dict)
+
+    def __bool__(self) -> bool:
+        return bool(self.robots) and all(bool(r) for r in self.robots)
+
+    @property
+    def paths(self) -> list[NDArray[np.float64] | None]:
+        return [r.path for r in self.robots]
+
+    def __len__(self) -> int:
+        return len(self.robots)
+
+    def __getitem__(self, i: int) -> RobotPlan:
+        return self.robots[i]
+
+
+@dataclass(frozen=True)
+class Capabilities:
+    """What a planner or controller handles; the CLI, checkers and benchmarks consult it."""
+
+    needs_plan: bool = False          # controllers: needs an offline plan
+    grid_based: bool = False          # moves between grid cell centres
+    continuous: bool = False          # moves anywhere within its speed
+    moving_obstacles: bool = False    # avoids moving obstacles
+    multi_robot: bool = True          # avoids other robots
+    randomized: bool = False          # result depends on the seed
+    multi_objective: bool = False     # planners: optimises several objectives
+
+
+class Planner:
+    """Base class of offline planners (register subclasses with ``@register_planner``)."""
+
+    capabilities: ClassVar[Capabilities] = Capabilities()
+    registered_name: ClassVar[str] = ""
+
+    def plan(self, world, *, rng: SeedLike = None) -> Plan:  # pragma: no cover - interface
+        raise NotImplementedError

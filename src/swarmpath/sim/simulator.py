@@ -1,0 +1,164 @@
+"""The simulator: steps the world, asks the controller for moves, and checks every move.
+
+Each step: (1) moving obstacles move by their motion model; (2) robots sense; (3) the
+controller returns next positions; (4) the simulator validates them (finite, within the
+robot's ``max_speed * dt``; an invalid move is recorded and the robot stays) and checks
+collisions itself (:mod:`swarmpath.sim.collisions`); (5) it records everything. A run ends when
+every robot is at its goal, when the step budget is spent ("truncated"), or when the robots
+that have not arrived stopped making progress ("deadlock").
+"""
+from __future__ import annotations
+
+import math
+import time
+from typing import Callable
+
+import numpy as np
+
+from swarmpath.control.base import Controller, Decision
+from swarmpath.errors import ConfigError
+from swarmpath.rng import make_rng
+from swarmpath.sim.collisions import step_contacts
+from swarmpath.sim.observation import Observation
+from swarmpath.sim.sensing import SensingConfig, sense
+from swarmpath.sim.trajectory import ALL_REACHED, DEADLOCK, TRUNCATED, Trajectory
+from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
+
+GOAL_TOLERANCE = 1e-9
+
+
+def default_max_steps(world, plan=None) -> int:
+    """A step budget that leaves room for detours: 200 plus four times the longest journey
+    (planned length, else twice the straight line) in steps at the robot's speed."""
+    longest = 0.0
+    for k, r in enumerate(world.robots):
+        length = None
+        if plan is not None and k < len(plan.robots) and plan.robots[k].path is not None:
+            length = plan.robots[k].length
+        if length is None:
+            length = 2 * math.dist(r.start, r.goal)
+        longest = max(longest, length / (r.max_speed * world.dt))
+    return int(200 + 4 * math.ceil(longest))
+
+
+class Simulator:
+    """Runs ``controller`` on ``world`` (with an optional offline ``plan``) for one seed."""
+
+    def __init__(self, world, controller: Controller, plan=None, *, seed: int = 0, max_steps: int | None = None,
+                 sensing: SensingConfig | None = None, deadlock_window: int = 60,
+                 progress: Callable[[int, int], None] | None = None):
+        if max_steps is not None and max_steps < 1:
+            raise ConfigError(f"max_steps must be >= 1, got {max_steps}")
+        if deadlock_window < 2:
+            raise ConfigError(f"deadlock_window must be >= 2, got {deadlock_window}")
+        self.world = world
+        self.controller = controller
+        self.plan = plan
+        self.seed = seed
+        self.max_steps = max_steps or default_max_steps(world, plan)
+        self.sensing = sensing or SensingConfig()
+        self.deadlock_window = deadlock_window
+        self.progress = progress
+
+    def run(self) -> Trajectory:
+        world = self.world
+        n = world.n_robots
+        goals = world.goals
+        speeds = world.max_speeds * world.dt
+        controller_rng = make_rng(self.seed, "controller")
+        obstacle_rng = make_rng(self.seed, "obstacles")
+        t0 = time.perf_counter()
+        self.controller.reset(world, self.plan, controller_rng)
+        reset_time = time.perf_counter() - t0
+
+        state = initial_obstacle_state(world)
+        positions = [world.starts.copy()]
+        obstacle_positions = [state.positions.copy()]
+        contacts, events, modes, mode_names = [], [], [], {}
+        status = TRUNCATED
+        pos = positions[0]
+        previous_obstacles = state.positions.copy()
+        act_time = 0.0
+        for step in range(1, self.max_steps + 1):
+            keep_clear = np.concatenate([pos, goals]) if n else None
+            state = advance_obstacles(world, state, obstacle_rng, keep_clear)
+            obs_before, obs_after = obstacle_positions[-1], state.positions
+            at_goal = np.linalg.norm(pos - goals, axis=1) <= GOAL_TOLERANCE
+            observation = Observation(step, world.dt, pos.copy(), goals, at_goal, obs_after.copy(),
+                                      previous_obstacles.copy(), sense(pos, obs_after, self.sensing, world.resolution))
+            t_act = time.perf_counter()
+            decision = self.controller.act(observation)
+            act_time += time.perf_counter() - t_act
+            if not isinstance(decision, Decision):
+                decision = Decision(np.asarray(decision, float))
+            new_pos = self._validated(decision.positions, pos, speeds, step, events)
+            contacts.extend(step_contacts(world, step, pos, new_pos, obs_before, obs_after))
+            if decision.modes is not None:
+                modes.append([mode_names.setdefault(m, len(mode_names)) for m in decision.modes])
+            elif modes:
+                modes.append([mode_names.setdefault("", len(mode_names))] * n)
+            for ev in decision.events:
+                events.append({"step": step, **ev})
+            previous_obstacles = obs_after.copy()
+            pos = new_pos
+            positions.append(pos)
+            obstacle_positions.append(obs_after.copy())
+            if self.progress is not None:
+                self.progress(step, self.max_steps)
+            if np.all(np.linalg.norm(pos - goals, axis=1) <= GOAL_TOLERANCE):
+                status = ALL_REACHED
+                break
+            if step % self.deadlock_window == 0 and self._stalled(positions, goals):
+                status = DEADLOCK
+                events.append({"step": step, "kind": "deadlock",
+                               "detail": f"no progress by unfinished robots in {self.deadlock_window} steps"})
+                break
+        sim_time = time.perf_counter() - t0
+        names = sorted(mode_names, key=mode_names.get)
+        return Trajectory(
+            scenario=world.name, seed=self.seed, dt=world.dt, resolution=world.resolution,
+            robot_ids=[r.id for r in world.robots], radii=world.radii, goals=goals,
+            positions=np.asarray(positions, float).reshape(len(positions), n, 2),
+            obstacle_ids=[o.id for o in world.moving_obstacles],
+            obstacle_positions=np.asarray(obstacle_positions, float).reshape(len(positions), -1, 2),
+            contacts=contacts, events=events,
+            modes=np.asarray(modes, np.int8) if modes else None, mode_names=names,
+            planned_paths=list(self.plan.paths) if self.plan is not None else [],
+            status=status, world=world.to_dict(),
+            static_map=world.static_map.blocked if world.static_map is not None else None,
+            meta={"controller": getattr(self.controller, "registered_name", type(self.controller).__name__),
+                  "planner": self.plan.planner if self.plan is not None else None,
+                  "sim_time_s": sim_time, "controller_time_s": act_time + reset_time,
+                  "controller_reset_s": reset_time, "max_steps": self.max_steps},
+        )
+
+    def _validated(self, proposed, pos, speeds, step: int, events: list) -> np.ndarray:
+        """The proposed positions with invalid moves replaced by staying put (and recorded)."""
+        proposed = np.asarray(proposed, dtype=float)
+        if proposed.shape != pos.shape:
+            raise ConfigError(f"controller returned positions of shape {proposed.shape}, expected {pos.shape}")
+        new = proposed.copy()
+        bad_value = ~np.all(np.isfinite(new), axis=1)
+        length = np.linalg.norm(np.where(bad_value[:, None], 0.0, new - pos), axis=1)
+        too_far = length > speeds * (1 + 1e-9) + 1e-12
+        for i in np.flatnonzero(bad_value | too_far):
+            detail = "not a finite position" if bad_value[i] else f"step {length[i]:.6g} > max {speeds[i]:.6g}"
+            events.append({"step": step, "kind": "invalid_move", "robot": int(i), "detail": detail})
+            new[i] = pos[i]
+        return new
+
+    def _stalled(self, positions: list, goals: np.ndarray) -> bool:
+        """True when every robot not at its goal visited at most two positions in the window."""
+        window = np.asarray(positions[-self.deadlock_window:])
+        unfinished = np.linalg.norm(window[-1] - goals, axis=1) > GOAL_TOLERANCE
+        if not unfinished.any():
+            return False
+        return bool(np.all(distinct_positions(window[:, unfinished]) <= 2))
+
+
+def distinct_positions(window: np.ndarray) -> np.ndarray:
+    """Number of distinct positions each robot took in ``window`` (shape (k, n, 2))."""
+    keys = np.round(window * 1e6).astype(np.int64)
+    keys = keys[..., 0] * 4_000_000_007 + keys[..., 1]
+    keys.sort(axis=0)
+    return 1 + np.count_nonzero(np.diff(keys, axis=0), axis=0)

@@ -1,0 +1,333 @@
+"""Scenario files (schema 1) in YAML or JSON, and the built-in scenarios shipped with swarmpath.
+
+The pydantic models below ARE the schema: unknown fields, missing fields and wrong types are
+errors naming the file and the field, and ``scenario_json_schema()`` derives the JSON Schema
+(docs/scenario.schema.json) from them. ``load_scenario`` turns a file into a :class:`World`,
+which then checks geometry (starts inside obstacles, clashing robots, ...).
+"""
+from __future__ import annotations
+
+import json
+import math
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Any, Literal, Optional, Union
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from swarmpath.errors import MapFormatError, ScenarioError
+
+Vec2 = tuple[float, float]
+PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegativeFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, str_strip_whitespace=True)
+
+
+class CircleModel(_Strict):
+    type: Literal["circle"]
+    center: Vec2
+    radius: PositiveFloat
+    id: str = ""
+
+
+class RectangleModel(_Strict):
+    type: Literal["rectangle"]
+    min: Vec2
+    max: Vec2
+    id: str = ""
+
+
+class PolygonModel(_Strict):
+    type: Literal["polygon"]
+    points: list[Vec2] = Field(min_length=3)
+    id: str = ""
+
+
+ObstacleModel = Annotated[Union[CircleModel, RectangleModel, PolygonModel], Field(discriminator="type")]
+
+
+class RectBoundsModel(_Strict):
+    type: Literal["rectangle"]
+    width: PositiveFloat
+    height: PositiveFloat
+
+
+class CircleBoundsModel(_Strict):
+    type: Literal["circle"]
+    center: Vec2
+    radius: PositiveFloat
+
+
+BoundsModel = Annotated[Union[RectBoundsModel, CircleBoundsModel], Field(discriminator="type")]
+
+
+class MapModel(_Strict):
+    file: str = Field(description="MovingAI .map file, relative to the scenario file")
+
+
+class DangerZoneModel(_Strict):
+    center: Vec2
+    radius: NonNegativeFloat = 0.0
+    weight: NonNegativeFloat = 1.0
+    id: str = ""
+
+
+class MovingCircleModel(_Strict):
+    type: Literal["circle"]
+    radius: PositiveFloat
+
+
+class MovingRectangleModel(_Strict):
+    type: Literal["rectangle"]
+    width: PositiveFloat
+    height: PositiveFloat
+
+
+MovingShapeModel = Annotated[Union[MovingCircleModel, MovingRectangleModel], Field(discriminator="type")]
+
+
+class MovingObstacleModel(_Strict):
+    id: Optional[str] = None
+    shape: MovingShapeModel
+    start: Vec2
+    velocity: Vec2 = (0.0, 0.0)
+    motion: Literal["bounce", "bounce8", "turn-every", "random-walk", "redraw", "waypoints"] = "bounce"
+    period: Optional[Annotated[int, Field(ge=1)]] = Field(None, description="turn-every: steps between turns")
+    points: Optional[list[Vec2]] = Field(None, description="waypoints: the points to visit")
+    loop: bool = True
+
+
+class RobotModel(_Strict):
+    id: Optional[str] = None
+    start: Vec2
+    goal: Vec2
+    radius: NonNegativeFloat = 0.0
+    max_speed: Optional[PositiveFloat] = Field(
+        None, description="world units per time unit; default: one grid cell incl. diagonals")
+
+
+class DefaultsModel(_Strict):
+    planner: Optional[str] = None
+    controller: Optional[str] = None
+
+
+class ScenarioModel(_Strict):
+    """A swarmpath scenario, schema version 1."""
+
+    schema_version: Literal[1]
+    name: str = Field(min_length=1)
+    description: str = ""
+    resolution: PositiveFloat = 1.0
+    dt: PositiveFloat = 1.0
+    bounds: Optional[BoundsModel] = None
+    map: Optional[MapModel] = None
+    obstacles: list[ObstacleModel] = []
+    danger_zones: list[DangerZoneModel] = []
+    moving_obstacles: list[MovingObstacleModel] = []
+    robots: list[RobotModel] = Field(min_length=1)
+    defaults: Optional[DefaultsModel] = None
+
+
+def scenario_json_schema() -> dict[str, Any]:
+    """The JSON Schema of scenario files, generated from the models."""
+    schema = ScenarioModel.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = "swarmpath scenario (schema 1)"
+    return schema
+
+
+_UNION_TAGS = {"circle", "rectangle", "polygon"}
+
+
+def _field_path(loc: tuple[Any, ...]) -> str:
+    out = ""
+    prev: Any = None
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        elif part in _UNION_TAGS and (isinstance(prev, int) or prev in ("bounds", "shape")):
+            pass  # pydantic adds the union tag to the location; users never wrote it
+        else:
+            out += f".{part}" if out else str(part)
+        prev = part
+    return out or "(top level)"
+
+
+def _describe(err: dict[str, Any]) -> str:
+    kind = err["type"]
+    if kind == "extra_forbidden":
+        return "unknown field (check the spelling; see docs/scenarios.md)"
+    if kind == "missing":
+        return "required field is missing"
+    if kind == "literal_error" and err["loc"] and err["loc"][-1] == "schema_version":
+        return f"must be 1, got {err.get('input')!r}"
+    msg = err["msg"]
+    if "input" in err and kind not in ("union_tag_invalid",):
+        msg += f" (got {err['input']!r})"
+    return msg
+
+
+def _first_error(exc: ValidationError) -> ScenarioError:
+    errors = exc.errors()
+    e = errors[0]
+    more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
+    return ScenarioError(_describe(e) + more, field=_field_path(tuple(e["loc"])))
+
+
+def scenario_problems(doc: Any) -> list[ScenarioError]:
+    """Every schema problem of a parsed document (empty list when it matches the schema)."""
+    try:
+        ScenarioModel.model_validate(doc)
+    except ValidationError as exc:
+        return [ScenarioError(_describe(e), field=_field_path(tuple(e["loc"]))) for e in exc.errors()]
+    return []
+
+
+def parse_document(text: str, source: str) -> Any:
+    """Parse YAML or JSON text (JSON when the source ends in .json), with line numbers in errors."""
+    if source.endswith(".json"):
+        try:
+            return json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ScenarioError(f"line {exc.lineno}, column {exc.colno}: JSON syntax error: {exc.msg}",
+                                source=source) from None
+    import yaml
+
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ScenarioError(f"{where}YAML syntax error: {problem}", source=source) from None
+
+
+def world_from_dict(doc: Any, source: str = "<scenario>", base_dir: Path | None = None):
+    """Validate a parsed scenario document and build its World."""
+    if not isinstance(doc, dict):
+        kind = "empty" if doc is None else type(doc).__name__
+        raise ScenarioError(f"a scenario must be a mapping of fields, got {kind}", source=source)
+    try:
+        model = ScenarioModel.model_validate(doc)
+    except ValidationError as exc:
+        raise _first_error(exc).with_source(source) from None
+    try:
+        return _build_world(model, base_dir or Path("."), source)
+    except ScenarioError as exc:
+        raise exc.with_source(source) from None
+
+
+def _build_world(m: ScenarioModel, base_dir: Path, source: str):
+    from swarmpath.world import moving as mv
+    from swarmpath.world.bounds import CircleBounds, RectBounds
+    from swarmpath.world.entities import DangerZone, Robot
+    from swarmpath.world.movingai import read_map
+    from swarmpath.world.shapes import Circle, Polygon, Rect
+    from swarmpath.world.static_map import StaticMap
+    from swarmpath.world.world import World
+
+    res = m.resolution
+    static_map = None
+    if m.map is not None:
+        path = (base_dir / m.map.file)
+        try:
+            grid_map = read_map(path)
+        except MapFormatError as exc:
+            raise ScenarioError(str(exc), field="map.file") from None
+        static_map = StaticMap(grid_map.blocked, res, str(path))
+    if m.bounds is None:
+        if static_map is None:
+            raise ScenarioError("required field is missing (give bounds or a map)", field="bounds")
+        bounds = RectBounds(static_map.width * res, static_map.height * res)
+    elif isinstance(m.bounds, RectBoundsModel):
+        bounds = RectBounds(m.bounds.width, m.bounds.height)
+    else:
+        bounds = CircleBounds(m.bounds.center, m.bounds.radius)
+
+    obstacles = []
+    for ob in m.obstacles:
+        if isinstance(ob, CircleModel):
+            obstacles.append(Circle(ob.center, ob.radius, ob.id))
+        elif isinstance(ob, RectangleModel):
+            obstacles.append(Rect(ob.min, ob.max, ob.id))
+        else:
+            obstacles.append(Polygon(tuple(tuple(p) for p in ob.points), ob.id))
+
+    moving = []
+    for i, mo in enumerate(m.moving_obstacles):
+        shape = (Circle((0.0, 0.0), mo.shape.radius) if isinstance(mo.shape, MovingCircleModel)
+                 else Rect((-mo.shape.width / 2, -mo.shape.height / 2), (mo.shape.width / 2, mo.shape.height / 2)))
+        where = f"moving_obstacles[{i}]"
+        if mo.motion != "turn-every" and mo.period is not None:
+            raise ScenarioError("only used with motion: turn-every", field=f"{where}.period")
+        if mo.motion != "waypoints" and mo.points is not None:
+            raise ScenarioError("only used with motion: waypoints", field=f"{where}.points")
+        motion = {
+            "bounce": mv.Bounce, "bounce8": mv.Bounce8, "random-walk": mv.RandomWalk, "redraw": mv.Redraw,
+        }.get(mo.motion)
+        if motion is not None:
+            model = motion()
+        elif mo.motion == "turn-every":
+            model = mv.TurnEvery(mo.period or 10)
+        else:
+            model = mv.Waypoints(tuple(tuple(p) for p in (mo.points or [])), mo.loop)
+        moving.append(mv.MovingObstacle(mo.id or f"m{i + 1}", shape, mo.start, mo.velocity, model))
+
+    default_speed = res * math.sqrt(2)
+    robots = tuple(Robot(r.id or f"r{i + 1}", r.start, r.goal, r.radius,
+                         r.max_speed if r.max_speed is not None else default_speed)
+                   for i, r in enumerate(m.robots))
+    dz = tuple(DangerZone(d.center, d.radius, d.weight, d.id) for d in m.danger_zones)
+    defaults = {k: v for k, v in (m.defaults.model_dump() if m.defaults else {}).items() if v}
+    return World(bounds=bounds, obstacles=tuple(obstacles), static_map=static_map, danger_zones=dz,
+                 moving_obstacles=tuple(moving), robots=robots, resolution=res, dt=m.dt, name=m.name,
+                 defaults=defaults)
+
+
+def read_scenario_file(path: str | Path) -> tuple[Any, str]:
+    """Read and parse a scenario file: (document, source name)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ScenarioError("no such file", source=str(path)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"cannot read: {exc}", source=str(path)) from None
+    return parse_document(text, str(path)), str(path)
+
+
+def builtin_scenarios() -> dict[str, str]:
+    """Built-in scenario names and their one-line descriptions."""
+    import yaml
+
+    out = {}
+    for entry in sorted(resources.files("swarmpath.data.scenarios").iterdir(), key=lambda e: e.name):
+        if entry.name.endswith((".yaml", ".json")):
+            doc = yaml.safe_load(entry.read_text(encoding="utf-8"))
+            out[doc["name"]] = (doc.get("description") or "").strip().splitlines()[0] if doc.get("description") else ""
+    return out
+
+
+def _builtin_path(name: str) -> Path | None:
+    for ext in (".yaml", ".json"):
+        entry = resources.files("swarmpath.data.scenarios").joinpath(name + ext)
+        if entry.is_file():
+            return Path(str(entry))
+    return None
+
+
+def load_scenario(name_or_path: str | Path):
+    """The World of a scenario file, or of a built-in scenario given by name."""
+    p = Path(name_or_path)
+    if not p.is_file():
+        builtin = _builtin_path(str(name_or_path))
+        if builtin is None:
+            known = ", ".join(builtin_scenarios())
+            raise ScenarioError(f"no such file, and no built-in scenario of that name (built-in: {known})",
+                                source=str(name_or_path))
+        p = builtin
+    doc, source = read_scenario_file(p)
+    return world_from_dict(doc, source, p.parent)

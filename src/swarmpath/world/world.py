@@ -1,0 +1,280 @@
+"""The World: an immutable, validated description of one planning problem.
+
+It holds the workspace bounds, static obstacles (shapes and/or a raster map), danger zones,
+moving obstacles (initial state + motion model) and robots (start, goal, radius, speed). It
+answers the exact geometric questions the simulator and the validators ask about static
+obstacles, and hands out cached occupancy grids for grid planners and controllers.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from swarmpath.errors import ScenarioError
+from swarmpath.world.bounds import Bounds, CircleBounds, RectBounds
+from swarmpath.world.entities import DangerZone, Robot
+from swarmpath.world.geometry import EPS
+from swarmpath.world.grid import OccupancyGrid, rasterize
+from swarmpath.world.moving import MovingObstacle, Waypoints
+from swarmpath.world.shapes import Circle, Polygon, Rect, Shape
+from swarmpath.world.static_map import StaticMap
+
+FloatArray = NDArray[np.float64]
+
+
+def _fmt(p: ArrayLike) -> str:
+    x, y = (float(v) for v in p)
+    return f"({x:g}, {y:g})"
+
+
+@dataclass(frozen=True, eq=False)
+class World:
+    """One planning problem. Construct it directly, from a scenario file
+    (:func:`swarmpath.world.load_scenario`) or from MovingAI files
+    (:func:`swarmpath.world.world_from_movingai`). Invalid worlds raise :class:`ScenarioError`
+    naming the field."""
+
+    bounds: Bounds
+    obstacles: tuple[Shape, ...] = ()
+    static_map: StaticMap | None = None
+    danger_zones: tuple[DangerZone, ...] = ()
+    moving_obstacles: tuple[MovingObstacle, ...] = ()
+    robots: tuple[Robot, ...] = ()
+    resolution: float = 1.0
+    dt: float = 1.0
+    name: str = "world"
+    defaults: Mapping[str, str] = field(default_factory=dict)
+    _grids: dict = field(default_factory=dict, init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        for name in ("obstacles", "danger_zones", "moving_obstacles", "robots"):
+            object.__setattr__(self, name, tuple(getattr(self, name)))
+        object.__setattr__(self, "defaults", dict(self.defaults))
+        self._validate()
+
+    # ------------------------------------------------------------------ validation
+    def _validate(self) -> None:
+        if not self.resolution > 0:
+            raise ScenarioError(f"must be > 0, got {self.resolution}", field="resolution")
+        if not self.dt > 0:
+            raise ScenarioError(f"must be > 0, got {self.dt}", field="dt")
+        b = self.bounds
+        if isinstance(b, RectBounds) and not (b.width > 0 and b.height > 0):
+            raise ScenarioError(f"width and height must be > 0, got {b.width} x {b.height}", field="bounds")
+        if isinstance(b, CircleBounds):
+            if not b.radius > 0:
+                raise ScenarioError(f"radius must be > 0, got {b.radius}", field="bounds.radius")
+            if b.center[0] - b.radius < -EPS or b.center[1] - b.radius < -EPS:
+                raise ScenarioError("the circle must lie in x >= 0, y >= 0 (grid origin is (0, 0))",
+                                    field="bounds")
+        for i, ob in enumerate(self.obstacles):
+            self._validate_shape(ob, f"obstacles[{i}]")
+        for i, dz in enumerate(self.danger_zones):
+            if dz.radius < 0:
+                raise ScenarioError(f"must be >= 0, got {dz.radius}", field=f"danger_zones[{i}].radius")
+            if dz.weight < 0:
+                raise ScenarioError(f"must be >= 0, got {dz.weight}", field=f"danger_zones[{i}].weight")
+        seen_ids: dict[str, int] = {}
+        for i, mo in enumerate(self.moving_obstacles):
+            where = f"moving_obstacles[{i}]"
+            if mo.id in seen_ids:
+                raise ScenarioError(f"id {mo.id!r} is used twice", field=f"{where}.id")
+            seen_ids[mo.id] = i
+            self._validate_shape(mo.shape, f"{where}.shape", relative=True)
+            if not np.all(np.isfinite(mo.velocity)):
+                raise ScenarioError("must be finite", field=f"{where}.velocity")
+            if isinstance(mo.motion, Waypoints) and not mo.motion.points:
+                raise ScenarioError("waypoints motion needs at least one point", field=f"{where}.points")
+            if not self.obstacle_fits(mo, np.asarray([mo.start], float))[0]:
+                raise ScenarioError(f"start {_fmt(mo.start)} overlaps a static obstacle or leaves the workspace",
+                                    field=f"{where}.start")
+        self._validate_robots()
+
+    def _validate_shape(self, shape: Any, where: str, relative: bool = False) -> None:
+        if isinstance(shape, Circle):
+            if not shape.radius > 0:
+                raise ScenarioError(f"must be > 0, got {shape.radius}", field=f"{where}.radius")
+        elif isinstance(shape, Rect):
+            if not (shape.max[0] > shape.min[0] and shape.max[1] > shape.min[1]):
+                raise ScenarioError(f"max {_fmt(shape.max)} must exceed min {_fmt(shape.min)} on both axes",
+                                    field=where)
+        elif isinstance(shape, Polygon):
+            if len(shape.points) < 3:
+                raise ScenarioError("a polygon needs at least 3 points", field=f"{where}.points")
+            v = shape.vertices
+            area = 0.5 * np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1])
+            if abs(area) < EPS:
+                raise ScenarioError("the polygon has no area", field=f"{where}.points")
+        else:
+            raise ScenarioError(f"unknown shape {type(shape).__name__}", field=where)
+
+    def _validate_robots(self) -> None:
+        ids: dict[str, int] = {}
+        for i, r in enumerate(self.robots):
+            where = f"robots[{i}]"
+            if r.id in ids:
+                raise ScenarioError(f"id {r.id!r} is already used by robots[{ids[r.id]}]", field=f"{where}.id")
+            ids[r.id] = i
+            if not r.radius >= 0:
+                raise ScenarioError(f"must be >= 0, got {r.radius}", field=f"{where}.radius")
+            if not r.max_speed > 0:
+                raise ScenarioError(f"must be > 0, got {r.max_speed}", field=f"{where}.max_speed")
+            for which in ("start", "goal"):
+                p = np.asarray(getattr(r, which), float)
+                if not np.all(np.isfinite(p)):
+                    raise ScenarioError("must be finite numbers", field=f"{where}.{which}")
+                if not self.bounds.contains(p, r.radius):
+                    raise ScenarioError(f"{_fmt(p)} lies outside the workspace", field=f"{where}.{which}")
+                hit = self.obstacle_at(p, r.radius)
+                if hit is not None:
+                    raise ScenarioError(f"{_fmt(p)} lies inside {hit}", field=f"{where}.{which}")
+        if len(self.robots) > 1:
+            self._validate_distinct("start")
+            self._validate_distinct("goal")
+
+    def _validate_distinct(self, which: str) -> None:
+        pts = np.array([getattr(r, which) for r in self.robots], float)
+        radii = np.array([r.radius for r in self.robots], float)
+        point_robot = radii == 0
+        cells = np.floor(pts / self.resolution + 1e-9).astype(np.int64)
+        d = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
+        clash = d < (radii[:, None] + radii[None]) - EPS
+        clash |= d < EPS
+        both_points = point_robot[:, None] & point_robot[None]
+        clash |= both_points & np.all(cells[:, None] == cells[None], axis=-1)
+        np.fill_diagonal(clash, False)
+        if clash.any():
+            i, j = sorted(np.argwhere(clash)[0])
+            where = "start on the same spot" if which == "start" else "share a goal"
+            raise ScenarioError(f"{_fmt(pts[j])} clashes with robots[{i}].{which} {_fmt(pts[i])}: "
+                                f"two robots {where} (same point, overlapping discs, or the same grid cell)",
+                                field=f"robots[{j}].{which}")
+
+    # ------------------------------------------------------------------ queries
+    def obstacle_at(self, point: ArrayLike, radius: float = 0.0) -> str | None:
+        """Name of a static obstacle that a disc of ``radius`` at ``point`` enters, else None."""
+        p = np.asarray(point, float)[None]
+        for i, ob in enumerate(self.obstacles):
+            sd = float(ob.signed_distance(p)[0])
+            if (radius > 0 and sd < radius - EPS) or (radius == 0 and sd < -EPS):
+                return f"obstacle {ob.id!r}" if ob.id else f"obstacles[{i}]"
+        if self.static_map is not None:
+            if self.static_map.segment_hits(p, p, radius)[0]:
+                cell = np.floor(p[0] / self.static_map.cell_size).astype(int)
+                return f"blocked map cell ({cell[0]}, {cell[1]})" if radius == 0 else "a blocked map cell"
+        return None
+
+    def static_hits(self, a: ArrayLike, b: ArrayLike, radius: ArrayLike) -> NDArray[np.bool_]:
+        """For moves from ``a`` to ``b`` (shape (n, 2)) of discs ``radius`` (n,): whether each
+        enters a static obstacle or leaves the workspace. Exact geometry, no grid."""
+        a = np.atleast_2d(np.asarray(a, float))
+        b = np.atleast_2d(np.asarray(b, float))
+        r = np.broadcast_to(np.asarray(radius, float), a.shape[:1])
+        hit = ~(self.bounds.contains(a, r) & self.bounds.contains(b, r))
+        for ob in self.obstacles:
+            lo, hi = ob.bbox
+            near = np.all((np.minimum(a, b) - r[:, None] < hi) & (np.maximum(a, b) + r[:, None] > lo), axis=1)
+            if not near.any():
+                continue
+            idx = np.flatnonzero(near)
+            ra = r[idx]
+            crossed = ob.segment_crosses_interior(a[idx], b[idx])
+            too_close = ob.segment_clearance(a[idx], b[idx]) < ra - EPS
+            hit[idx] |= np.where(ra > 0, too_close | crossed, crossed)
+        if self.static_map is not None:
+            hit |= self.static_map.segment_hits(a, b, r)
+        return hit
+
+    def static_clearance(self, points: ArrayLike, radius: ArrayLike = 0.0) -> FloatArray:
+        """Free distance between discs at ``points`` and the nearest static obstacle or the
+        boundary (negative when overlapping)."""
+        p = np.atleast_2d(np.asarray(points, float))
+        r = np.broadcast_to(np.asarray(radius, float), p.shape[:1])
+        best = self.bounds.clearance(p)
+        for ob in self.obstacles:
+            best = np.minimum(best, ob.signed_distance(p))
+        if self.static_map is not None:
+            reach = 4 * self.static_map.cell_size
+            d = self.static_map.segment_clearance(p, p, reach)
+            best = np.minimum(best, d)
+        return best - r
+
+    def obstacle_fits(self, ob: MovingObstacle, positions: ArrayLike) -> NDArray[np.bool_]:
+        """Whether the footprint of ``ob`` at each position avoids static obstacles and stays
+        inside the workspace (shape (k,) for positions of shape (k, 2))."""
+        pos = np.atleast_2d(np.asarray(positions, float))
+        ok = np.ones(len(pos), dtype=bool)
+        if isinstance(ob.shape, Circle):
+            rho = ob.shape.radius
+            ok &= self.bounds.contains(pos, rho)
+            for st in self.obstacles:
+                ok &= st.signed_distance(pos) >= rho - EPS
+            if self.static_map is not None:
+                ok &= ~self.static_map.segment_hits(pos, pos, np.full(len(pos), rho))
+            return ok
+        lo = pos + np.asarray(ob.shape.min, float)
+        hi = pos + np.asarray(ob.shape.max, float)
+        ok &= self.bounds.boxes_inside(lo, hi)
+        for st in self.obstacles:
+            ok &= ~st.overlaps_open_box(lo, hi)
+        if self.static_map is not None:
+            cs = self.static_map.cell_size
+            x0 = np.floor(lo[:, 0] / cs + EPS).astype(int)
+            y0 = np.floor(lo[:, 1] / cs + EPS).astype(int)
+            x1 = np.ceil(hi[:, 0] / cs - EPS).astype(int)
+            y1 = np.ceil(hi[:, 1] / cs - EPS).astype(int)
+            ok &= self.static_map.count_blocked(x0, y0, x1, y1) == 0
+        return ok
+
+    # ------------------------------------------------------------------ grids and arrays
+    def grid(self, resolution: float | None = None, radius: float = 0.0) -> OccupancyGrid:
+        """The occupancy grid at ``resolution`` (default: the world's) for robots of ``radius``;
+        computed once and cached."""
+        res = float(resolution or self.resolution)
+        key = (res, float(max(0.0, radius - res / 2)))
+        if key not in self._grids:
+            self._grids[key] = rasterize(self, res, radius)
+        return self._grids[key]
+
+    @property
+    def n_robots(self) -> int:
+        return len(self.robots)
+
+    @property
+    def starts(self) -> FloatArray:
+        return np.array([r.start for r in self.robots], float).reshape(-1, 2)
+
+    @property
+    def goals(self) -> FloatArray:
+        return np.array([r.goal for r in self.robots], float).reshape(-1, 2)
+
+    @property
+    def radii(self) -> FloatArray:
+        return np.array([r.radius for r in self.robots], float)
+
+    @property
+    def max_speeds(self) -> FloatArray:
+        return np.array([r.max_speed for r in self.robots], float)
+
+    def replace(self, **changes: Any) -> "World":
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """The scenario-file form (schema 1) of this world; a static map is not embedded."""
+        doc: dict[str, Any] = {"schema_version": 1, "name": self.name, "resolution": self.resolution,
+                               "dt": self.dt, "bounds": self.bounds.to_dict()}
+        if self.obstacles:
+            doc["obstacles"] = [o.to_dict() for o in self.obstacles]
+        if self.danger_zones:
+            doc["danger_zones"] = [d.to_dict() for d in self.danger_zones]
+        if self.moving_obstacles:
+            doc["moving_obstacles"] = [m.to_dict() for m in self.moving_obstacles]
+        doc["robots"] = [r.to_dict() for r in self.robots]
+        if self.defaults:
+            doc["defaults"] = dict(self.defaults)
+        return doc
