@@ -264,23 +264,27 @@ def optimize(algorithm: str, function: str, dim: int, particles: int, iterations
 
 
 class _progress:
-    """A rich progress bar on the given console (a no-op when disabled)."""
+    """A rich progress bar on the given console (a no-op when disabled). The callable it
+    yields takes ``(done, total=None)``: runs finished so far and, optionally, a new total."""
 
-    def __init__(self, console, label: str, total: int, enabled: bool = True):
+    def __init__(self, console, label: str, total: int | None, enabled: bool = True):
         self.console, self.label, self.total, self.enabled = console, label, total, enabled
         self._bar = None
 
     def __enter__(self):
         if not self.enabled:
-            return lambda *_: None
+            return lambda *_args, **_kw: None
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
         self._bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                              TimeRemainingColumn(), console=self.console, transient=True)
         self._bar.__enter__()
         task = self._bar.add_task(self.label, total=self.total)
-        return lambda done=None: self._bar.update(task, completed=done) if done is not None else \
-            self._bar.advance(task)
+
+        def update(done: int, total: int | None = None) -> None:
+            self._bar.update(task, completed=done, total=total if total is not None else self._bar.tasks[0].total)
+
+        return update
 
     def __exit__(self, *exc):
         if self._bar is not None:
@@ -302,9 +306,32 @@ def reproduce(paper: str, out: str | None, runs: int | None, seed: int) -> None:
     out_dir = Path(out or f"reproduce-{paper}")
     out_dir.mkdir(parents=True, exist_ok=True)
     console = _console(False)
-    with _progress(console, f"reproducing {paper}", 1, enabled=True) as advance:
+    with _progress(console, f"reproducing {paper}", None, enabled=console.is_terminal) as advance:
         report = experiment(out_dir, runs=runs, seed=seed, progress=advance)
     console.print(f"wrote {report}")
+
+
+# ---------------------------------------------------------------------------------- replay
+@cli.command()
+@click.argument("trajectory", type=click.Path(dir_okay=False))
+@click.option("--html", "html_out", type=click.Path(dir_okay=False), default=None, help="write an HTML replay here")
+@click.option("--gif", "gif_out", type=click.Path(dir_okay=False), default=None, help="write a GIF (or .mp4) here")
+def replay(trajectory: str, html_out: str | None, gif_out: str | None) -> None:
+    """Turn a saved trajectory (.npz or .json) into an HTML replay and/or an animation."""
+    from swarmpath.errors import ConfigError
+    from swarmpath.sim.trajectory import Trajectory
+
+    if not (html_out or gif_out):
+        raise ConfigError("give --html FILE and/or --gif FILE")
+    traj = Trajectory.load(trajectory)
+    if html_out:
+        from swarmpath.viz.html_replay import write_replay_html
+
+        click.echo(f"wrote {write_replay_html(traj, html_out)}")
+    if gif_out:
+        from swarmpath.viz.animation import save_animation
+
+        click.echo(f"wrote {save_animation(traj, gif_out)}")
 
 
 # ---------------------------------------------------------------------------------- entry point
