@@ -169,10 +169,9 @@ def amopso_random_factors(
     (r1, r2) : ndarrays of shape (n, dim)
     """
     scale = (np.asarray(L, dtype=float) * (t / t_max))[:, None]
-    n = scale.shape[0]
-    r1 = rng.random((n, dim)) * scale
-    r2 = rng.random((n, dim)) * scale
-    return r1, r2
+    r = rng.random((2, scale.shape[0], dim))
+    r *= scale
+    return r[0], r[1]
 
 
 @dataclass(frozen=True)

@@ -181,9 +181,11 @@ class MOPSO(Optimizer):
     archive_size : int
         Largest number of archive members (100).
     mutation_rate : float
-        Fraction of the run during which Coello's mutation acts (0.5; 0 disables it).
+        Fraction of the run during which Coello's mutation acts (0.2; Coello et al. use 0.5;
+        0 disables it).
     velocity_clamp : float
-        Largest speed per component as a fraction of the box width (0.2).
+        Largest speed per component as a fraction of the box width (0.5, SMPSO's bound of
+        half the range; the single-objective optimisers use 0.2).
     """
 
     multi_objective = True
@@ -192,8 +194,8 @@ class MOPSO(Optimizer):
     mode: str = "pareto"
     weights: Sequence[float] | None = None
     archive_size: int = 100
-    mutation_rate: float = 0.5
-    velocity_clamp: float = 0.2
+    mutation_rate: float = 0.2
+    velocity_clamp: float = 0.5
 
     def _check_hyperparameters(self, problem: Problem) -> None:
         owner = self.name

@@ -51,12 +51,20 @@ def pso_velocity_update(
     -------
     ndarray of shape (n, dim): the new velocities.
     """
-    return w * v + c1 * r1 * (pbest - x) + c2 * r2 * (gbest - x)
+    cognitive = pbest - x
+    cognitive *= r1
+    cognitive *= c1
+    social = gbest - x
+    social *= r2
+    social *= c2
+    cognitive += social
+    cognitive += w * v
+    return cognitive
 
 
 def clamp_velocity(v: Array, v_max: Array) -> Array:
     """Velocity clamping: each component limited to [-v_max_d, v_max_d]; v (n, dim), v_max (dim,)."""
-    return np.clip(v, -v_max, v_max)
+    return np.minimum(np.maximum(v, -v_max), v_max)
 
 
 def pso_position_update(x: Array, v: Array, lower: Array, upper: Array) -> tuple[Array, Array]:
@@ -76,7 +84,7 @@ def pso_position_update(x: Array, v: Array, lower: Array, upper: Array) -> tuple
     (x', v') : ndarrays of shape (n, dim)
     """
     moved = x + v
-    clipped = np.clip(moved, lower, upper)
+    clipped = np.minimum(np.maximum(moved, lower), upper)
     v = np.where(clipped != moved, 0.0, v)
     return clipped, v
 
@@ -106,9 +114,8 @@ class SPSORule:
     ) -> Coefficients:
         """(w, c1, c2, r1, r2) for the update that produces iteration ``t`` (1 <= t < t_max)."""
         w = linear_inertia_eq32(t, t_max, self.w_max, self.w_min)
-        r1 = rng.random(shape)
-        r2 = rng.random(shape)
-        return Coefficients(w, self.c1, self.c2, r1, r2)
+        r = rng.random((2, *shape))
+        return Coefficients(w, self.c1, self.c2, r[0], r[1])
 
 
 class Coefficients(NamedTuple):
@@ -185,8 +192,8 @@ def run_gbest_swarm(
             stop = "max_evaluations"
             break
         better = f < pbest_f
-        pbest_x[better] = x[better]
-        pbest_f[better] = f[better]
+        np.copyto(pbest_x, x, where=better[:, None])
+        np.minimum(pbest_f, f, out=pbest_f)
         g = int(np.argmin(pbest_f))
         if pbest_f[g] < gbest_f:
             gbest_x = pbest_x[g].copy()
