@@ -92,7 +92,21 @@ class World:
             if not self.obstacle_fits(mo, np.asarray([mo.start], float))[0]:
                 raise ScenarioError(f"start {_fmt(mo.start)} overlaps a static obstacle or leaves the workspace",
                                     field=f"{where}.start")
+            if isinstance(mo.motion, Waypoints):
+                self._validate_route(mo, where)
         self._validate_robots()
+
+    def _validate_route(self, mo: MovingObstacle, where: str) -> None:
+        """Scripted routes must be free: sample each leg densely with the footprint."""
+        route = [mo.start, *mo.motion.points] + ([mo.motion.points[0]] if mo.motion.loop else [])
+        for k in range(len(route) - 1):
+            a, b = np.asarray(route[k], float), np.asarray(route[k + 1], float)
+            n = max(2, int(np.ceil(np.linalg.norm(b - a) / (self.resolution / 4))) + 1)
+            pts = a + np.linspace(0, 1, n)[:, None] * (b - a)
+            bad = ~self.obstacle_fits(mo, pts)
+            if bad.any():
+                raise ScenarioError(f"the route passes {_fmt(pts[np.argmax(bad)])}, which overlaps a static obstacle "
+                                    "or leaves the workspace", field=f"{where}.points")
 
     def _validate_shape(self, shape: Any, where: str, relative: bool = False) -> None:
         if isinstance(shape, Circle):
