@@ -74,7 +74,12 @@ class Problem:
             hi = np.broadcast_to(hi, (int(dim),)) if hi.ndim == 0 else hi
         elif lo.ndim == 0 and hi.ndim == 0:
             raise ConfigError(f"{label}: scalar bounds need dim")
-        lo, hi = np.broadcast_arrays(np.atleast_1d(lo), np.atleast_1d(hi))
+        if lo.ndim == 0 and hi.ndim == 1:
+            lo = np.broadcast_to(lo, hi.shape)
+        elif hi.ndim == 0 and lo.ndim == 1:
+            hi = np.broadcast_to(hi, lo.shape)
+        if lo.shape != hi.shape:
+            raise ConfigError(f"{label}: lower has shape {lo.shape} but upper has shape {hi.shape}")
         if lo.ndim != 1 or lo.size == 0:
             raise ConfigError(f"{label}: bounds must be 1-D with at least one entry, got shape {lo.shape}")
         if dim is not None and lo.shape[0] != dim:
