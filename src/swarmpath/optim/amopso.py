@@ -58,12 +58,14 @@ def amopso_l_factor(pbest_f: Array) -> Array:
     """
     pbest_f = np.asarray(pbest_f, dtype=float)
     n = pbest_f.shape[0]
-    if n < 2 or not np.all(np.isfinite(pbest_f)):
+    if n < 2 or not np.isfinite(pbest_f).all():
         return np.ones(n)
-    V = float(np.std(pbest_f, ddof=1))
+    dev = pbest_f - pbest_f.sum() / n
+    V = math.sqrt(float(dev @ dev) / (n - 1))
     if not math.isfinite(V) or V <= 0.0:
         return np.ones(n)
-    return np.exp(-np.abs((pbest_f - pbest_f.mean()) / V))
+    dev /= -V
+    return np.exp(-np.abs(dev, out=dev), out=dev)
 
 
 def log_progress(t: int, t_max: int) -> float:
@@ -119,8 +121,8 @@ def amopso_inertia_eq16(
     -------
     ndarray of shape (n,)
     """
-    w = (w_max - w_min) * np.asarray(L, dtype=float) * log_progress(t, t_max) + w_min
-    return np.clip(w, w_min, w_max)
+    w = ((w_max - w_min) * log_progress(t, t_max)) * np.asarray(L, dtype=float) + w_min
+    return np.minimum(np.maximum(w, w_min), w_max)
 
 
 def amopso_acceleration(
