@@ -15,6 +15,7 @@ def sphere_medians(optimizer, seeds=range(10)) -> float:
     return float(np.median([optimizer.minimize(SPHERE.problem(30), iterations=1000, particles=30, rng=s).f for s in seeds]))
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
     reason="the paper's SPSO (w 0.9->0.4 by eq. 32, c1 = c2 = 2) is second-order unstable while "
@@ -25,17 +26,20 @@ def test_pso_reaches_1e_8_on_30d_sphere():
     assert sphere_medians(PSO()) < 1e-8
 
 
+@pytest.mark.slow
 def test_the_same_pso_code_with_constriction_coefficients_reaches_1e_8():
     # Clerc & Kennedy's constriction (w = 0.7298, c = 1.49618), same loop, clamp and walls
     constricted = PSO(w_max=0.7298, w_min=0.7298, c1=1.49618, c2=1.49618)
     assert sphere_medians(constricted) < 1e-8
 
 
+@pytest.mark.slow
 def test_pso_improves_with_budget_on_30d_sphere():
     short = np.median([PSO().minimize(SPHERE.problem(30), iterations=120, particles=8, rng=s).f for s in range(10)])
     assert sphere_medians(PSO()) < 1e-3 < short
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["zdt1", "zdt2"])
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_mopso_archive_hypervolume_on_zdt(name, seed):

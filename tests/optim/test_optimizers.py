@@ -180,3 +180,27 @@ def test_nan_objective_never_becomes_the_best():
         res = OPTIMIZERS.get(name)().minimize(p, iterations=10, particles=10, rng=0)
         assert np.isfinite(res.f), name
         assert res.x[0] <= 0, name
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_public_conformance_check_passes(name):
+    from swarmpath.optim.conformance import check_optimizer
+
+    assert check_optimizer(OPTIMIZERS.get(name)) == []
+
+
+def test_public_conformance_check_catches_a_broken_optimizer():
+    from swarmpath.optim.base import RunOutput
+    from swarmpath.optim.conformance import check_optimizer
+    from swarmpath.optim.pso import PSO
+
+    @dataclasses.dataclass(frozen=True)
+    class Liar(PSO):
+        def _run(self, problem, evaluate, *, iterations, particles, rng, initial):
+            x = np.random.default_rng().uniform(problem.lower, problem.upper)  # ignores the seed
+            return RunOutput(x, 0.0, np.zeros(iterations), iterations, "iterations", np.zeros(1))
+
+    problems = check_optimizer(Liar)
+    assert any("same seed" in p for p in problems)
+    assert any("not the objective" in p for p in problems)
+    assert any("evaluations" in p for p in problems)

@@ -32,11 +32,6 @@ def test_small_reproduction_writes_report_and_plots(tmp_path):
     total = 2 * 2 * len(ALGORITHMS) * 4
     assert calls[0] == (0, total) and calls[-1] == (total, total)
     assert [d for d, _ in calls] == sorted(d for d, _ in calls)
-    # deterministic: the same seed writes the same tables
-    again = reproduce(tmp_path / "again", runs=4, seed=3, budgets=((8, 15), (10, 20)),
-                      functions=("sphere", "quartic-noise"), dim=5).read_text()
-    strip = [line for line in text.splitlines() if "time" not in line.lower()]
-    assert strip == [line for line in again.splitlines() if "time" not in line.lower()]
 
 
 def test_bad_runs(tmp_path):
