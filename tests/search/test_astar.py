@@ -62,9 +62,10 @@ def valid_moves(blocked: np.ndarray, cells: np.ndarray, connectivity: int) -> bo
     return True
 
 
-@settings(max_examples=150, deadline=None)
-@given(grids, st.sampled_from([4, 8]), st.data())
-def test_astar_equals_distance_field_and_reference(params, connectivity, data) -> None:
+@settings(max_examples=200, deadline=None)
+@given(grids, st.sampled_from([(4, "astar"), (8, "astar"), (8, "jps")]), st.data())
+def test_astar_equals_distance_field_and_reference(params, search, data) -> None:
+    connectivity, method = search
     blocked = make_grid(*params)
     free = np.argwhere(~blocked)
     if len(free) < 2:
@@ -76,7 +77,7 @@ def test_astar_equals_distance_field_and_reference(params, connectivity, data) -
     finite = np.isfinite(ref)
     assert np.array_equal(finite, np.isfinite(field))
     assert np.allclose(field[finite], ref[finite], rtol=1e-12, atol=1e-12)
-    result = astar(blocked, start, goal, connectivity=connectivity)
+    result = astar(blocked, start, goal, connectivity=connectivity, method=method)
     if not finite[start[1], start[0]]:
         assert not result and result.cost == math.inf and result.cells is None
         return
