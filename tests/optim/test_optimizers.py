@@ -204,3 +204,10 @@ def test_public_conformance_check_catches_a_broken_optimizer():
     assert any("same seed" in p for p in problems)
     assert any("not the objective" in p for p in problems)
     assert any("evaluations" in p for p in problems)
+
+
+def test_all_nan_objective_is_an_outcome_not_a_crash():
+    p = Problem(lambda X: np.full(X.shape[0], np.nan), -1.0, 1.0, dim=3)
+    for name in NAMES:
+        res = OPTIMIZERS.get(name)().minimize(p, iterations=5, particles=6, rng=0)
+        assert res.f == np.inf and res.x.shape == (3,), name

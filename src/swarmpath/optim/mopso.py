@@ -240,7 +240,12 @@ class MOPSO(Optimizer):
         archive.add(x, F)
         pbest_x, pbest_F = x.copy(), F.copy()
         pbest_s = weighted_sum(pbest_F, weights)
-        history = [archive.F.min(axis=0) if pareto else np.array([pbest_s.min()])]
+        def record() -> Array:
+            if not pareto:
+                return np.array([pbest_s.min()])
+            return archive.F.min(axis=0) if archive.F.shape[0] else np.full(m, np.inf)
+
+        history = [record()]
         done, stop = 1, "iterations"
         for t in range(1, iterations):
             if pareto:
@@ -269,7 +274,7 @@ class MOPSO(Optimizer):
             pbest_F[replace] = F[replace]
             pbest_s[replace] = s[replace]
             archive.add(x, F)
-            history.append(archive.F.min(axis=0) if pareto else np.array([pbest_s.min()]))
+            history.append(record())
             done += 1
 
         if pareto and archive.F.shape[0]:
