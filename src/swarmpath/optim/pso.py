@@ -23,6 +23,36 @@ from swarmpath.registry import register_optimizer
 Array = NDArray[np.float64]
 
 
+class Coefficients(NamedTuple):
+    """Coefficients of one velocity update (eq. 9-10): floats or arrays of shape (n, 1) / (n, dim)."""
+
+    w: float | Array
+    c1: float | Array
+    c2: float | Array
+    r1: Array
+    r2: Array
+
+
+class UpdateRule(Protocol):
+    """How a PSO variant chooses w, c1, c2, r1, r2 at each iteration (SPSO or AMOPSO1-4)."""
+
+    def coefficients(
+        self,
+        t: int,
+        t_max: int,
+        pbest_f: Array,
+        gbest_f: float,
+        rng: np.random.Generator,
+        shape: tuple[int, int],
+    ) -> Coefficients:
+        """Coefficients of the update that produces iteration ``t`` (1 <= t < t_max).
+
+        ``pbest_f`` (n,) are the personal-best costs, ``gbest_f`` the best of them, ``shape``
+        is (n, dim).
+        """
+        ...
+
+
 def pso_velocity_update(
     v: Array,
     x: Array,
@@ -116,36 +146,6 @@ class SPSORule:
         w = linear_inertia_eq32(t, t_max, self.w_max, self.w_min)
         r = rng.random((2, *shape))
         return Coefficients(w, self.c1, self.c2, r[0], r[1])
-
-
-class Coefficients(NamedTuple):
-    """Coefficients of one velocity update (eq. 9-10): floats or arrays of shape (n, 1) / (n, dim)."""
-
-    w: float | Array
-    c1: float | Array
-    c2: float | Array
-    r1: Array
-    r2: Array
-
-
-class UpdateRule(Protocol):
-    """How a PSO variant chooses w, c1, c2, r1, r2 at each iteration (SPSO or AMOPSO1-4)."""
-
-    def coefficients(
-        self,
-        t: int,
-        t_max: int,
-        pbest_f: Array,
-        gbest_f: float,
-        rng: np.random.Generator,
-        shape: tuple[int, int],
-    ) -> Coefficients:
-        """Coefficients of the update that produces iteration ``t`` (1 <= t < t_max).
-
-        ``pbest_f`` (n,) are the personal-best costs, ``gbest_f`` the best of them, ``shape``
-        is (n, dim).
-        """
-        ...
 
 
 def run_gbest_swarm(
