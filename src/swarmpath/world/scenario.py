@@ -306,8 +306,11 @@ def builtin_scenarios() -> dict[str, str]:
     out = {}
     for entry in sorted(resources.files("swarmpath.data.scenarios").iterdir(), key=lambda e: e.name):
         if entry.name.endswith((".yaml", ".json")):
-            doc = yaml.safe_load(entry.read_text(encoding="utf-8"))
-            out[doc["name"]] = (doc.get("description") or "").strip().splitlines()[0] if doc.get("description") else ""
+            doc = parse_document(entry.read_text(encoding="utf-8"), entry.name)
+            if not isinstance(doc, dict) or not isinstance(doc.get("name"), str):
+                raise ScenarioError("a built-in scenario needs a name", source=entry.name)
+            description = str(doc.get("description") or "").strip()
+            out[doc["name"]] = description.splitlines()[0] if description else ""
     return out
 
 
