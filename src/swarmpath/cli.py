@@ -90,7 +90,8 @@ def run(scenario: str | None, map_file: str | None, scen_file: str | None, agent
     if out:
         from swarmpath.viz.run_outputs import write_run_outputs
 
-        written = write_run_outputs(out, result)
+        with _progress(console, "rendering the animation", None, enabled=console.is_terminal) as advance:
+            written = write_run_outputs(out, result, progress=advance)
         if not json_mode:
             console.print(f"wrote {len(written)} files to {out}")
     if json_mode:
@@ -331,7 +332,10 @@ def replay(trajectory: str, html_out: str | None, gif_out: str | None) -> None:
     if gif_out:
         from swarmpath.viz.animation import save_animation
 
-        click.echo(f"wrote {save_animation(traj, gif_out)}")
+        console = _console(False)
+        with _progress(console, "rendering the animation", None, enabled=console.is_terminal) as advance:
+            written = save_animation(traj, gif_out, progress=advance)
+        click.echo(f"wrote {written}")
 
 
 # ---------------------------------------------------------------------------------- entry point
