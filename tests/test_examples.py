@@ -1,0 +1,21 @@
+"""The scripts in examples/ run and print what they promise."""
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+
+
+@pytest.mark.parametrize("script, expect", [
+    ("quickstart.py", "independent re-check: no violations"),
+    ("custom_controller.py", "conformance problems: []"),
+    ("optimize.py", "amopso3"),
+])
+def test_example_runs(script: str, expect: str) -> None:
+    out = subprocess.run([sys.executable, str(EXAMPLES / script)], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert expect in out.stdout, out.stdout
