@@ -105,22 +105,30 @@ def robot_moving_contacts(world, robots_before: FloatArray, robots_after: FloatA
                           obstacles_after: FloatArray, radii: FloatArray) -> list[tuple[int, int, str]]:
     """Robot-obstacle collisions of both phases of a step: (robot, obstacle, detail)."""
     out = []
-    for j, ob in enumerate(world.moving_obstacles):
-        shape = ob.placed((0.0, 0.0))
-        reach = ob.extent + float(radii.max(initial=0.0)) + g.EPS
-        o0, o1 = obstacles_before[j], obstacles_after[j]
-        # Phase 1: the obstacle sweeps o0 -> o1 over robots standing at robots_before.
-        near1 = np.flatnonzero(g.point_segment_distance(robots_before, o0, o1) < reach)
+    obstacles = world.moving_obstacles
+    # Phase 1: the obstacle sweeps o0 -> o1 over robots standing at robots_before. A ``redraw``
+    # obstacle does not travel: it reappears at o1, so only o1 is checked.
+    jumps = np.array([getattr(ob.motion, "kind", "") == "redraw" for ob in obstacles], dtype=bool)
+    starts = np.where(jumps[:, None], obstacles_after, obstacles_before)
+    reach = np.array([ob.extent for ob in obstacles], float) + float(radii.max(initial=0.0)) + g.EPS
+    # Which robots come near which obstacle (shape (n_robots, n_obstacles)), for all at once.
+    d1 = g.point_segment_distance(robots_before[:, None, :], starts[None], obstacles_after[None])
+    d2 = g.point_segment_distance(obstacles_after[None], robots_before[:, None, :], robots_after[:, None, :])
+    close1, close2 = d1 < reach, d2 < reach
+    for j in np.flatnonzero(close1.any(axis=0) | close2.any(axis=0)):
+        shape = obstacles[j].placed((0.0, 0.0))
+        o0, o1 = starts[j], obstacles_after[j]
+        near1 = np.flatnonzero(close1[:, j])
         if len(near1):
             rel0 = robots_before[near1] - o0
             rel1 = robots_before[near1] - o1
             hit = _footprint_hits(shape, rel0, rel1, radii[near1])
-            out.extend((int(i), j, "obstacle moved into robot") for i in near1[hit])
+            out.extend((int(i), int(j), "obstacle moved into robot") for i in near1[hit])
         # Phase 2: robots move among the obstacle standing at o1.
-        near2 = np.flatnonzero(g.point_segment_distance(o1, robots_before, robots_after) < reach)
+        near2 = np.flatnonzero(close2[:, j])
         if len(near2):
             hit = _footprint_hits(shape, robots_before[near2] - o1, robots_after[near2] - o1, radii[near2])
-            out.extend((int(i), j, "robot moved into obstacle") for i in near2[hit])
+            out.extend((int(i), int(j), "robot moved into obstacle") for i in near2[hit])
     # one contact per (robot, obstacle) and step
     seen: dict[tuple[int, int], str] = {}
     for i, j, detail in out:
