@@ -19,11 +19,13 @@ Motion models (``motion:`` in scenario files):
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Union
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from swarmpath.world.shapes import Circle, Rect
 
@@ -87,7 +89,7 @@ class MovingObstacle:
     def speed(self) -> float:
         return float(np.hypot(*self.velocity))
 
-    @property
+    @cached_property
     def extent(self) -> float:
         """Radius of the smallest disc around the position that covers the footprint."""
         if isinstance(self.shape, Circle):
@@ -146,12 +148,15 @@ def advance_obstacles(world: "World", state: ObstacleState, rng: np.random.Gener
     vel = state.velocities.copy()
     wp = state.waypoint_index.copy()
     step = state.step + 1
-    taken: list[FloatArray] = []
+    available: NDArray[np.bool_] | None = None   # cells a redraw obstacle may appear on
+    fits: dict = {}                               # footprint -> which cell centres it fits
     for i, ob in enumerate(world.moving_obstacles):
         m = ob.motion
         if isinstance(m, Redraw):
-            pos[i] = _redraw_position(world, ob, rng, keep_clear, taken)
-            taken.append(pos[i])
+            if available is None:
+                available = _redraw_available(world, keep_clear)
+            pos[i] = _redraw_position(world, ob, rng, available, fits)
+            _mark_taken(world, available, pos[i])
             continue
         if isinstance(m, Waypoints):
             pos[i], vel[i], wp[i] = _waypoint_step(ob, m, pos[i], int(wp[i]), dt)
@@ -225,26 +230,43 @@ def _waypoint_step(ob: MovingObstacle, m: Waypoints, p: FloatArray, k: int, dt: 
     return p, (p - start) / dt, k
 
 
-def _redraw_position(world: "World", ob: MovingObstacle, rng: np.random.Generator,
-                     keep_clear: FloatArray | None, taken: list[FloatArray]) -> FloatArray:
+def _redraw_available(world: "World", keep_clear: FloatArray | None) -> NDArray[np.bool_]:
+    """Free cells of the world's grid minus the cells of ``keep_clear`` points (robots and
+    their goals), shape (height, width); redrawn obstacles then take cells out one by one."""
     grid = world.grid()
     free = ~grid.blocked.copy()
-    forbid = [] if keep_clear is None else [np.asarray(keep_clear, float).reshape(-1, 2)]
-    if taken:
-        forbid.append(np.asarray(taken).reshape(-1, 2))
-    if forbid:
-        cells = grid.cell_of(np.concatenate(forbid))
-        ok = grid.contains_cells(cells)
-        free[cells[ok, 1], cells[ok, 0]] = False
-    ys, xs = np.nonzero(free)
+    if keep_clear is not None:
+        _mark_taken(world, free, keep_clear)
+    return free
+
+
+def _mark_taken(world: "World", available: NDArray[np.bool_], points: ArrayLike) -> None:
+    """Take the cells of ``points`` (shape (k, 2)) out of ``available``."""
+    res = world.grid().resolution
+    h, w = available.shape
+    for x, y in np.asarray(points, float).reshape(-1, 2):
+        cx, cy = math.floor(x / res + 1e-9), math.floor(y / res + 1e-9)   # OccupancyGrid.cell_of
+        if 0 <= cx < w and 0 <= cy < h:
+            available[cy, cx] = False
+
+
+def _redraw_position(world: "World", ob: MovingObstacle, rng: np.random.Generator,
+                     available: NDArray[np.bool_], fits: dict) -> FloatArray:
+    """A uniformly random available cell centre where the footprint fits (``ob.start`` if
+    none). ``fits`` caches, per footprint, whether it fits at every cell centre."""
+    grid = world.grid()
+    ys, xs = np.nonzero(available)
     if len(xs) == 0:
         return np.asarray(ob.start, float)
     order = rng.permutation(len(xs))
-    centres = grid.centers(np.stack([xs[order], ys[order]], axis=1))
-    # Try candidates in random order in batches: most free cells fit a cell-sized obstacle.
-    for lo in range(0, len(centres), 64):
-        batch = centres[lo:lo + 64]
-        fits = world.obstacle_fits(ob, batch)
-        if fits.any():
-            return batch[int(np.argmax(fits))]
+    key = ob.shape if isinstance(ob.shape, Rect) else Circle((0.0, 0.0), ob.shape.radius)
+    fit = fits.get(key)
+    if fit is None:
+        h, w = available.shape
+        every = grid.centers(np.stack(np.meshgrid(np.arange(w), np.arange(h), indexing="xy"), axis=-1).reshape(-1, 2))
+        fit = fits[key] = world.obstacle_fits(ob, every).reshape(h, w)
+    ok = fit[ys[order], xs[order]]
+    if ok.any():
+        k = int(order[int(np.argmax(ok))])
+        return grid.centers(np.array([xs[k], ys[k]]))
     return np.asarray(ob.start, float)
