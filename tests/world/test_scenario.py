@@ -140,3 +140,10 @@ def test_jaleel2016_is_the_papers_setup() -> None:
 def test_committed_json_schema_is_generated_from_the_model() -> None:
     committed = json.loads((Path(__file__).parents[2] / "docs" / "scenario.schema.json").read_text())
     assert committed == scenario_json_schema()
+
+
+def test_every_builtin_scenario_round_trips_through_to_dict() -> None:
+    for name in builtin_scenarios():
+        world = load_scenario(name)
+        if world.static_map is None:
+            assert world_from_dict(world.to_dict()).to_dict() == world.to_dict(), name

@@ -104,8 +104,11 @@ class MovingObstacle:
         return Rect((x + self.shape.min[0], y + self.shape.min[1]), (x + self.shape.max[0], y + self.shape.max[1]))
 
     def to_dict(self) -> dict:
-        shape = ({"type": "circle", "radius": self.shape.radius} if isinstance(self.shape, Circle)
-                 else {"type": "rectangle", "min": list(self.shape.min), "max": list(self.shape.max)})
+        if isinstance(self.shape, Circle):
+            shape = {"type": "circle", "radius": self.shape.radius}
+        else:  # scenario files describe a centred box by its width and height
+            shape = {"type": "rectangle", "width": self.shape.max[0] - self.shape.min[0],
+                     "height": self.shape.max[1] - self.shape.min[1]}
         motion: dict = {"motion": self.motion.kind}
         if isinstance(self.motion, TurnEvery):
             motion["period"] = self.motion.period
