@@ -36,8 +36,22 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from swarmpath.optim.functions import ackley, griewank, rastrigin, sphere  # noqa: E402
 
-FUNCTIONS = {"sphere": (sphere, 100.0), "rastrigin": (rastrigin, 5.12), "ackley": (ackley, 32.0),
-             "griewank": (griewank, 600.0)}
+_IN_FUNCTION = [0.0]  # CPU seconds spent inside objective functions (reset per run)
+
+
+def _timed(f):
+    def g(X):
+        c = time.process_time()
+        out = f(X)
+        _IN_FUNCTION[0] += time.process_time() - c
+        return out
+
+    g.__name__ = f.__name__
+    return g
+
+
+FUNCTIONS = {"sphere": (_timed(sphere), 100.0), "rastrigin": (_timed(rastrigin), 5.12),
+             "ackley": (_timed(ackley), 32.0), "griewank": (_timed(griewank), 600.0)}
 BUDGETS = [(8, 120), (30, 1000)]
 DIM = 30
 MEALPY_VENV = ROOT / ".venv-mealpy"
@@ -121,7 +135,10 @@ def run_mealpy(name):
 
 
 def measure(run, seeds, budgets, functions):
-    """{budget: {function: {"time", "wall", "best", "evals"}}}: medians over the seeds.
+    """{budget: {function: {"time", "wall", "overhead", "best", "evals"}}}: medians over the seeds.
+
+    "overhead" is "time" minus the CPU time spent inside the objective function (the same
+    function code for every library), i.e. what the optimiser itself costs.
 
     "time" is the CPU time of the run (time.process_time: the code is single-threaded, so on an
     idle machine it equals the wall time, and it stays honest on a busy shared one), "wall" the
@@ -133,15 +150,18 @@ def measure(run, seeds, budgets, functions):
         key = f"{particles}x{iterations}"
         out[key] = {}
         for fname in functions:
-            times, walls, bests, evals = [], [], [], []
+            times, walls, overheads, bests, evals = [], [], [], [], []
             for seed in seeds:
+                _IN_FUNCTION[0] = 0.0
                 t0, c0 = time.perf_counter(), time.process_time()
                 best, n = run(fname, particles, iterations, seed)
                 times.append(time.process_time() - c0)
                 walls.append(time.perf_counter() - t0)
+                overheads.append(times[-1] - _IN_FUNCTION[0])
                 bests.append(best)
                 evals.append(n)
             out[key][fname] = {"time": statistics.median(times), "wall": statistics.median(walls),
+                               "overhead": statistics.median(overheads),
                                "best": statistics.median(bests), "evals": int(statistics.median(evals))}
     return out
 
@@ -216,14 +236,19 @@ def report(results, budgets, n_seeds) -> None:
     for particles, iterations in budgets:
         key = f"{particles}x{iterations}"
         print(f"\n## {particles} particles x {iterations} iterations ({particles * iterations} evaluations)\n")
-        print("| algorithm | " + " | ".join(f"{f} best" for f in FUNCTIONS) + " | ms/run (mean of 4 fns) | time / ours pso |")
-        print("|---|" + "---|" * (len(FUNCTIONS) + 2))
+        print("| algorithm | " + " | ".join(f"{f} best" for f in FUNCTIONS)
+              + " | ms/run | / ours pso | ms/run outside f | / ours pso |")
+        print("|---|" + "---|" * (len(FUNCTIONS) + 4))
         base = statistics.mean(results["pso"][key][f]["time"] for f in FUNCTIONS)
+        base_o = statistics.mean(results["pso"][key][f]["overhead"] for f in FUNCTIONS)
         for n in names:
             cells = results[n][key]
             t = statistics.mean(cells[f]["time"] for f in FUNCTIONS)
+            o = statistics.mean(cells[f]["overhead"] for f in FUNCTIONS)
             bests = " | ".join(f"{cells[f]['best']:.3g}" for f in FUNCTIONS)
-            print(f"| {n} | {bests} | {1000 * t:.1f} | {t / base:.2f} |")
+            print(f"| {n} | {bests} | {1000 * t:.1f} | {t / base:.2f} | {1000 * o:.1f} | {o / base_o:.2f} |")
+        print("\nms/run: CPU time per run, mean over the 4 functions of the median over seeds; "
+              "outside f: the same minus the time inside the objective function")
         evals = {n: sorted({results[n][key][f]["evals"] for f in FUNCTIONS}) for n in names}
         print("\nevaluations per run: " + ", ".join(f"{n} {'/'.join(map(str, e))}" for n, e in evals.items()))
         if "pymoo PSO" in results:

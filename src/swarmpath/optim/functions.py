@@ -62,9 +62,14 @@ def quartic_noise(X: ArrayLike, rng: np.random.Generator) -> Array:
 
 
 def rastrigin(X: ArrayLike) -> Array:
-    """f4, eq. 28: sum_i [x_i^2 - 10 cos(2 pi x_i) + 10]. X (..., dim) -> (...). Minimum 0 at 0."""
+    """f4, eq. 28: sum_i [x_i^2 - 10 cos(2 pi x_i) + 10]. X (..., dim) -> (...). Minimum 0 at 0.
+
+    Computed as sum x^2 + 10 (dim - sum cos 2 pi x): four array operations instead of seven;
+    exactly 0 at x = 0, absolute rounding error about 10 * dim * 1e-16 elsewhere.
+    """
     X = np.asarray(X, dtype=float)
-    return np.sum(X * X - 10.0 * np.cos(2.0 * np.pi * X) + 10.0, axis=-1)
+    d = X.shape[-1]
+    return np.einsum("...i,...i->...", X, X) + 10.0 * (d - np.cos((2.0 * np.pi) * X).sum(axis=-1))
 
 
 def ackley(X: ArrayLike) -> Array:

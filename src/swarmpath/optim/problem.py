@@ -134,6 +134,7 @@ class Problem:
             raise ConfigError(
                 f"{label}: objective returned shape {F.shape}, expected ({n}, {self.n_objectives})"
             )
-        if np.isnan(F).any():
+        total = F.sum()
+        if total != total:  # NaN somewhere (or inf - inf): replace NaN by +inf
             F = np.where(np.isnan(F), np.inf, F)
         return F

@@ -88,13 +88,15 @@ def pso_velocity_update(
     social *= r2
     social *= c2
     cognitive += social
-    cognitive += w * v
+    social = np.multiply(v, w, out=social)
+    cognitive += social
     return cognitive
 
 
 def clamp_velocity(v: Array, v_max: Array) -> Array:
     """Velocity clamping: each component limited to [-v_max_d, v_max_d]; v (n, dim), v_max (dim,)."""
-    return np.minimum(np.maximum(v, -v_max), v_max)
+    out = np.maximum(v, -v_max)
+    return np.minimum(out, v_max, out=out)
 
 
 def pso_position_update(x: Array, v: Array, lower: Array, upper: Array) -> tuple[Array, Array]:
@@ -114,8 +116,11 @@ def pso_position_update(x: Array, v: Array, lower: Array, upper: Array) -> tuple
     (x', v') : ndarrays of shape (n, dim)
     """
     moved = x + v
-    clipped = np.minimum(np.maximum(moved, lower), upper)
-    v = np.where(clipped != moved, 0.0, v)
+    clipped = np.maximum(moved, lower)
+    np.minimum(clipped, upper, out=clipped)
+    hit = clipped != moved
+    if hit.any():
+        v = np.where(hit, 0.0, v)
     return clipped, v
 
 
