@@ -44,7 +44,7 @@ PAPER_RANGE = (10, 15)
 OBSTACLE_COUNTS = tuple(PAPER_TABLE2)
 TABLE1_RUNS, TABLE2_RUNS = 200, 100
 DISTANCE_FIELD_COUNTS = (10, 30, 50)
-RANDOM_WALK_COUNTS = (5, 10, 20)
+RANDOM_WALK_COUNTS = (1, 5, 10, 20)
 #: Shortest possible path from cell (1,1) to (10,10) with 8-connected moves.
 OPTIMAL_STEPS = 9
 

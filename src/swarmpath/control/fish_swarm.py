@@ -267,7 +267,6 @@ class FishSwarmController(Controller):
 
     # ------------------------------------------------------------------ one step
     def act(self, obs) -> Decision:
-        world = self.world_
         n = obs.positions.shape[0]
         pos = obs.positions
         new = pos.copy()
