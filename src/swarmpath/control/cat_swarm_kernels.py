@@ -1,0 +1,173 @@
+"""The modified cat swarm of Jaleel & Hassan (2016, section III.2.C, Algorithm 4) as small pure
+functions over arrays. The controller (:mod:`swarmpath.control.cat_swarm`) wires them to the
+simulator; docs/papers/jaleel-hassan-2016-online.md explains every interpretation.
+
+Grid conventions: cells are (x, y) integer pairs, ``blocked[y, x]``; the 9 candidate offsets
+are ``OFFSETS`` (index 0 = the present position, then the 8 directions).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+
+#: Offsets of the candidate cells: the present cell, then E, NE, N, NW, W, SW, S, SE.
+OFFSETS = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1]], dtype=np.int64)
+#: Octile length of each offset (0, 1 or sqrt 2).
+STEP_COST = np.linalg.norm(OFFSETS, axis=1)
+#: Whether each offset is a diagonal move.
+DIAGONAL = np.all(OFFSETS != 0, axis=1)
+STAY = 0
+
+
+def mixture_counts(n_robots: int, mixture_ratio: float) -> tuple[int, int]:
+    """Eq. 10-11: robots in seek mode = round(MR * N) (halves rounded up), the rest trace.
+    MR = 0.4 and N = 12 give (5, 7); N = 2 gives (1, 1), as the paper wants."""
+    n_seek = int(np.floor(mixture_ratio * n_robots + 0.5))
+    n_seek = min(max(n_seek, 0), n_robots)
+    return n_seek, n_robots - n_seek
+
+
+def mixture_split(remaining: FloatArray, groups: IntArray, mixture_ratio: float, tiebreak: FloatArray) -> BoolArray:
+    """Seek flags (eq. 10-11 and the paragraph after them): in every group, the
+    ``round(MR * size)`` robots with the LONGEST remaining path get seek mode (flag 1), the
+    others trace mode (flag 0); equal lengths are ordered by ``tiebreak`` (random keys).
+
+    remaining, tiebreak : (n,) ; groups : (n,) group label of each robot (>= 0).
+    Returns a bool array (n,)."""
+    n = len(remaining)
+    if n == 0:
+        return np.zeros(0, dtype=bool)
+    order = np.lexsort((tiebreak, -np.asarray(remaining, float), groups))
+    g_sorted = groups[order]
+    starts = np.flatnonzero(np.r_[True, g_sorted[1:] != g_sorted[:-1]])
+    sizes = np.diff(np.r_[starts, n])
+    rank = np.arange(n) - np.repeat(starts, sizes)
+    n_seek = np.floor(mixture_ratio * sizes + 0.5).astype(np.int64)
+    seek = np.zeros(n, dtype=bool)
+    seek[order] = rank < np.repeat(n_seek, sizes)
+    return seek
+
+
+def seek_copies(cells: IntArray, *, srd: int = 1, spc: bool = True) -> IntArray:
+    """Step 6.1-6.2 of Algorithm 4: the seeking memory pool. Every robot is copied SMP = 8
+    times; each copy changes both coordinates (CDC = 2) by -SRD, 0 or +SRD cells (the eight
+    directions). With SPC the present position is kept as one more candidate (index 0).
+
+    cells : (n, 2) -> copies (n, 9, 2); without SPC index 0 still holds the present cell and
+    callers mask it out."""
+    del spc  # the present cell is always in slot 0; the flag only decides whether it may win
+    return cells[:, None, :] + OFFSETS[None] * srd
+
+
+def move_table(blocked: BoolArray) -> BoolArray:
+    """Static validity of the 9 moves from every cell, shape (height, width, 9): the target is
+    inside the grid and free, and a diagonal move does not cut a blocked corner (both
+    orthogonal neighbours free). Step 6.3's "copies on static obstacles are deleted"."""
+    h, w = blocked.shape
+    pad = np.ones((h + 2, w + 2), dtype=bool)
+    pad[1:-1, 1:-1] = blocked
+    free = ~pad
+    out = np.zeros((h, w, len(OFFSETS)), dtype=bool)
+    for k, (dx, dy) in enumerate(OFFSETS):
+        ok = free[1 + dy:1 + dy + h, 1 + dx:1 + dx + w].copy()
+        if dx and dy:
+            ok &= free[1:1 + h, 1 + dx:1 + dx + w] & free[1 + dy:1 + dy + h, 1:1 + w]
+        out[..., k] = ok & ~blocked
+    return out
+
+
+def fitness_eq12(fields: NDArray, field_index: IntArray, copies: IntArray) -> FloatArray:
+    """Eq. 12: the fitness of a copy is the length of the path from the copy to its robot's
+    goal. ``fields[g]`` (height, width) is the grid distance field of goal g (cells, octile,
+    the same cost A* finds), ``field_index`` (n,) the field of each robot, ``copies`` (n, k, 2)
+    cells (clipped into the grid here; mask invalid copies separately). Returns (n, k)."""
+    h, w = fields.shape[1:]
+    x = np.clip(copies[..., 0], 0, w - 1)
+    y = np.clip(copies[..., 1], 0, h - 1)
+    return fields[field_index[:, None], y, x].astype(np.float64)
+
+
+def tie_break_eq13(copy_points: FloatArray, goals: FloatArray) -> FloatArray:
+    """Eq. 13 (used when fitness values tie): prefer the copy whose way to the goal is most
+    direct, i.e. that moves forward and not backward. The paper's formula (sum of Euclidean
+    segment lengths over the number of points of the copy's path) is lost in the text; we use
+    the straight-line distance from the copy to the goal. copy_points (n, k, 2), goals (n, 2)
+    -> (n, k)."""
+    return np.linalg.norm(copy_points - goals[:, None, :], axis=-1)
+
+
+def rank_copies(fitness: FloatArray, tie: FloatArray, valid: BoolArray, *, decimals: int = 6,
+                safety: NDArray | None = None) -> IntArray:
+    """Step 6.4-6.5: candidate indices of every robot from best to worst: smallest fitness
+    first, ties by eq. 13, then by index; invalid (deleted) copies last. With ``safety``
+    (n, k), larger safety comes before everything else. (n, k) -> (n, k)."""
+    f = np.where(valid, np.round(fitness, decimals), np.inf)
+    t = np.where(valid, tie, np.inf)
+    order = np.argsort(t, axis=1, kind="stable")
+    for key in (f, None if safety is None else -np.asarray(safety, float)):
+        if key is None:
+            continue
+        key = np.where(valid, key, np.inf)
+        nxt = np.argsort(np.take_along_axis(key, order, axis=1), axis=1, kind="stable")
+        order = np.take_along_axis(order, nxt, axis=1)
+    return order
+
+
+def descent_step(fields: NDArray, field_index: IntArray, cells: IntArray, static_ok: BoolArray,
+                 tie: FloatArray) -> IntArray:
+    """The next cell of each robot's replanned shortest path (step 6.6's "replanning"): the
+    neighbour minimising step cost + distance-to-goal, ties by eq. 13. Returns the offset
+    index (n,) (0 when the robot is at its goal or walled in)."""
+    copies = cells[:, None, :] + OFFSETS[None]
+    cost = fitness_eq12(fields, field_index, copies) + STEP_COST[None]
+    valid = static_ok.copy()
+    valid[:, STAY] = False
+    order = rank_copies(cost, tie, valid)
+    best = order[:, 0]
+    here = fitness_eq12(fields, field_index, cells[:, None, :])[:, 0]
+    best_cost = np.take_along_axis(cost, best[:, None], axis=1)[:, 0]
+    stuck = ~valid[np.arange(len(cells)), best] | ~(best_cost < here + 1e-6) | (here <= 0)
+    return np.where(stuck, STAY, best)
+
+
+def safe_tier(covered: list[BoolArray], moves: BoolArray, depth: int) -> BoolArray:
+    """Cells where a robot may end this step and still keep clear of every moving obstacle
+    for ``depth`` steps whatever the obstacles do, shape (height, width). ``covered`` =
+    [D_1, ..., D_K] are the cells obstacles may cover in each of the next K >= depth steps.
+    Backward induction: S_depth = not D_depth, S_k = not D_k and one allowed move away from
+    S_(k+1); the answer is S_1 (depth 1: simply "not D_1"). Extends step 6.3's deletion
+    (current and next positions of objects) with a look-ahead."""
+    safe = ~covered[depth - 1]
+    for k in range(depth - 1, 0, -1):
+        safe = ~covered[k - 1] & escape_cells(~safe, moves)
+    return safe
+
+
+def stay_depth(covered: list[BoolArray]) -> NDArray[np.int64]:
+    """For every cell, for how many of the next K steps it stays clear of every obstacle
+    (0 ... K), shape (height, width): how long a robot could wait there."""
+    clear = np.ones(covered[0].shape, dtype=bool)
+    depth = np.zeros(covered[0].shape, dtype=np.int64)
+    for d in covered:
+        clear &= ~d
+        depth += clear
+    return depth
+
+
+def escape_cells(unsafe: BoolArray, moves: BoolArray) -> BoolArray:
+    """Cells with a way out (height, width): some allowed move (``moves`` from
+    :func:`move_table`, staying included) reaches a cell that is not ``unsafe``. A robot
+    that ends its step on such a cell can still get clear next step, wherever the obstacles
+    go (``unsafe`` = what they may cover the step after next). Part of our deletion rule
+    (step 6.3), which the paper states for the current and next positions only."""
+    h, w = unsafe.shape
+    pad = np.ones((h + 2, w + 2), dtype=bool)
+    pad[1:-1, 1:-1] = unsafe
+    out = np.zeros((h, w), dtype=bool)
+    for k, (dx, dy) in enumerate(OFFSETS):
+        out |= moves[..., k] & ~pad[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+    return out
