@@ -30,8 +30,12 @@ def conformance_worlds() -> list[World]:
 
 
 def unreachable_world() -> World:
-    """One robot whose goal is walled in: planners must report it, not crash or hang."""
-    return World(RectBounds(10, 10), obstacles=(Rect((6, 6), (10, 6.8)), Rect((6, 6), (6.8, 10))),
+    """One robot whose goal is walled in: planners must report it, not crash or hang.
+
+    The walls reach past the workspace's edge: walls ending exactly on the edge would leave a
+    gap of zero width along it, and since touching is not a collision a point robot could
+    slide through it (a continuous planner finds that path)."""
+    return World(RectBounds(10, 10), obstacles=(Rect((6, 6), (11, 6.8)), Rect((6, 6), (6.8, 11))),
                  robots=(Robot("a", (1.5, 1.5), (8.5, 8.5), 0.0, float(np.sqrt(2))),), name="walled-in")
 
 
