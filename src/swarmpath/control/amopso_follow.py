@@ -1,0 +1,211 @@
+"""The ``amopso-follow`` controller: robots follow their offline (AMOPSO) paths and resolve
+robot-robot conflicts online with the three principles of Abbas & Abdulsahab, section 2.2:
+
+1. each robot first picks its next position aligned with its goal: the point ``max_speed *
+   dt`` further along its planned path (:func:`swarmpath.control.path_tracking.advance_along`);
+2. if that move would bring it into conflict with another robot ("more than one robot tries to
+   take the same position"), it turns: it tries a shorter move along its path, then side steps
+   of length ``sidestep`` (the paper's threshold) turned right or left by 45 and 90 degrees
+   from its heading, and takes the free one that leaves it closest to its next path vertex
+   (right wins ties); if none is free it waits;
+3. otherwise it moves to the aligned position.
+
+Robots decide one after the other each step, the one with the longest remaining route first
+(ties by index). A robot's move is checked against the moves already decided this step and
+against the current positions of the robots still to decide (who may stay): since every
+decided move avoided the current positions of the others, staying is always conflict-free,
+so the rule never creates a collision it could have avoided. A conflict is, for robots i and
+j moving in straight lines during the step (:func:`moves_conflict`): coming closer than the
+sum of their radii plus ``separation`` at any time of the step (or than their current
+distance, if that is already smaller); and for two point robots, which occupy grid cells
+(DESIGN.md), ending in the same cell of the world's grid or swapping cells. These are the
+simulator checker's rules with a margin, so a run without invalid moves has no robot-robot
+contact.
+
+After a side step the robot rejoins its path at the next vertex along a straight segment if
+that segment is free of static obstacles (exact, ``World.static_hits``), else it first steps
+back to where it left the path; every move therefore lies on a collision-free segment.
+Moving obstacles are ignored (capabilities: ``moving_obstacles=False``).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from swarmpath.control.base import Controller, Decision
+from swarmpath.control.path_tracking import advance_along
+from swarmpath.errors import ConfigError
+from swarmpath.planning.base import Capabilities
+from swarmpath.registry import register_controller
+from swarmpath.world import geometry as g
+
+FloatArray = NDArray[np.float64]
+
+#: Turn angles of the side steps, in the order tried (degrees; + is left, - is right).
+TURNS_DEG = (-45.0, 45.0, -90.0, 90.0)
+#: Shorter moves along the path tried before side stepping (fractions of the step).
+SLOWER = (0.5, 0.25)
+
+
+def turned(direction: ArrayLike, degrees: ArrayLike) -> FloatArray:
+    """Unit vector ``direction`` (2,) rotated by each angle (k,) in degrees (counter-clockwise
+    = left): shape (k, 2). Principle 2's "turn left or right"."""
+    d = np.asarray(direction, float)
+    a = np.radians(np.asarray(degrees, float))
+    c, s = np.cos(a), np.sin(a)
+    return np.column_stack([c * d[0] - s * d[1], s * d[0] + c * d[1]])
+
+
+def moves_conflict(a: ArrayLike, b: ArrayLike, q0: ArrayLike, q1: ArrayLike, radius: float, radii: ArrayLike,
+                   separation: float, resolution: float) -> NDArray[np.bool_]:
+    """Whether robot i moving a -> b conflicts with each robot j moving q0_j -> q1_j.
+
+    a, b : (2,); q0, q1 : (m, 2); radius : robot i's; radii : (m,) the others'.
+    Conflict: the smallest distance during the step (both move linearly) is below
+    ``min(radius + radii + separation, current distance)`` (never below the sum of radii plus
+    1e-6); for two point robots (radius 0) also ending in the same grid cell of size
+    ``resolution``, or swapping cells. Returns (m,) booleans.
+    """
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    q0 = np.asarray(q0, float).reshape(-1, 2)
+    q1 = np.asarray(q1, float).reshape(-1, 2)
+    radii = np.asarray(radii, float)
+    rsum = radius + radii
+    now = np.linalg.norm(a - q0, axis=1)
+    need = np.maximum(np.minimum(rsum + separation, now), rsum + 1e-6)
+    dmin = g.relative_min_distance(a[None], b[None], q0, q1)
+    bad = dmin < need - 1e-12
+    points = (radius == 0) & (radii == 0)
+    if points.any():
+        cell = lambda p: np.floor(np.asarray(p, float) / resolution + 1e-9).astype(np.int64)  # noqa: E731
+        ca0, ca1, cq0, cq1 = cell(a), cell(b), cell(q0), cell(q1)
+        same = np.all(cq1 == ca1, axis=-1)
+        swap = np.all(cq1 == ca0, axis=-1) & np.all(cq0 == ca1, axis=-1) & np.any(cq0 != ca0, axis=-1)
+        bad |= points & (same | swap)
+    return bad
+
+
+@register_controller("amopso-follow")
+class AMOPSOFollowController(Controller):
+    """Follow the offline paths; give way by slowing down, side stepping or waiting.
+
+    Parameters
+    ----------
+    sidestep : float, optional
+        Length of a side step (the paper's threshold), world units; default: the robot's
+        largest step ``max_speed * dt``.
+    separation : float
+        Extra distance kept between robots' discs (world units) at every time of a step.
+    """
+
+    capabilities = Capabilities(needs_plan=True, continuous=True, multi_robot=True)
+
+    def __init__(self, sidestep: float | None = None, separation: float = 0.25, patience: int = 2):
+        positive = isinstance(sidestep, (int, float)) and sidestep > 0 and math.isfinite(sidestep)
+        if sidestep is not None and not positive:
+            raise ConfigError(f"amopso-follow: sidestep must be a positive number, got {sidestep!r}")
+        if not (isinstance(separation, (int, float)) and separation >= 0 and math.isfinite(separation)):
+            raise ConfigError(f"amopso-follow: separation must be a number >= 0, got {separation!r}")
+        if isinstance(patience, bool) or not isinstance(patience, (int, np.integer)) or patience < 0:
+            raise ConfigError(f"amopso-follow: patience must be an integer >= 0, got {patience!r}")
+        self.sidestep = sidestep
+        self.separation = float(separation)
+        self.patience = int(patience)
+
+    def reset(self, world, plan, rng: np.random.Generator) -> None:
+        if plan is None:
+            raise ConfigError("controller 'amopso-follow' needs an offline plan (choose a planner)")
+        self.world_ = world
+        self.routes_ = [np.asarray(p, float) if p is not None else None for p in plan.paths]
+        self.next_ = np.ones(world.n_robots, dtype=np.int64)
+        self.budget_ = world.max_speeds * world.dt
+        self.radii_ = world.radii
+        self.waited_ = np.zeros(world.n_robots, dtype=np.int64)
+
+    # ------------------------------------------------------------------ helpers
+    def _remaining(self, i: int, p: FloatArray) -> float:
+        route = self.routes_[i]
+        if route is None:
+            return 0.0
+        k = int(self.next_[i])
+        if k >= len(route):
+            return 0.0
+        rest = route[k:]
+        return float(np.linalg.norm(rest[0] - p) + np.linalg.norm(np.diff(rest, axis=0), axis=1).sum())
+
+    def _free(self, i: int, a: FloatArray, b: FloatArray, pos: FloatArray, new: FloatArray,
+              decided: NDArray[np.bool_]) -> bool:
+        """Move a -> b of robot i is free of static obstacles and of conflicts with others."""
+        if np.any(a != b) and self.world_.static_hits(a[None], b[None], [self.radii_[i]])[0]:
+            return False
+        others = np.arange(len(pos)) != i
+        q1 = np.where(decided[:, None], new, pos)
+        bad = moves_conflict(a, b, pos[others], q1[others], float(self.radii_[i]), self.radii_[others],
+                             self.separation, self.world_.resolution)
+        return not bad.any()
+
+    # ------------------------------------------------------------------ the step
+    def act(self, obs) -> Decision:
+        pos = np.asarray(obs.positions, float)
+        n = len(pos)
+        new = pos.copy()
+        decided = np.zeros(n, dtype=bool)
+        modes = ["follow"] * n
+        events: list[dict] = []
+        remaining = np.array([self._remaining(i, pos[i]) for i in range(n)])
+        for i in np.lexsort((np.arange(n), -remaining)):
+            i = int(i)
+            route = self.routes_[i]
+            if route is None or obs.at_goal[i] or int(self.next_[i]) >= len(route):
+                decided[i] = True
+                modes[i] = "arrived" if obs.at_goal[i] else ("no-plan" if route is None else "wait")
+                continue
+            budget = float(self.budget_[i])
+            p, k = advance_along(route, pos[i], int(self.next_[i]), budget)
+            if self._free(i, pos[i], p, pos, new, decided):
+                new[i], self.next_[i] = p, k
+            else:
+                new[i], modes[i] = self._give_way(i, pos, new, decided, p, budget, events)
+            self.waited_[i] = self.waited_[i] + 1 if modes[i] == "wait" else 0
+            decided[i] = True
+        return Decision(new, modes, tuple(events))
+
+    def _give_way(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
+                  budget: float, events: list[dict]) -> tuple[FloatArray, str]:
+        """Principle 2: a shorter move along the path; else wait, up to ``patience`` steps in a
+        row; else the best side step; else wait."""
+        route = self.routes_[i]
+        a = pos[i]
+        for frac in SLOWER:
+            p, k = advance_along(route, a, int(self.next_[i]), budget * frac)
+            if self._free(i, a, p, pos, new, decided):
+                self.next_[i] = k
+                return p, "slow"
+        if self.waited_[i] < self.patience:
+            return a.copy(), "wait"
+        heading = aligned - a
+        norm = float(np.linalg.norm(heading))
+        if norm <= 1e-12:
+            return a.copy(), "wait"
+        length = min(budget, self.sidestep if self.sidestep is not None else budget)
+        target = route[int(self.next_[i])]
+        best, best_score = None, math.inf
+        for q in a + turned(heading / norm, TURNS_DEG) * length:
+            if not self.world_.bounds.contains(q, self.radii_[i]) or not self._free(i, a, q, pos, new, decided):
+                continue
+            score = float(np.linalg.norm(target - q))
+            if score < best_score - 1e-12:
+                best, best_score = q, score
+        if best is None:
+            return a.copy(), "wait"
+        # rejoin: straight to the next vertex if that segment is free, else back via a
+        k = int(self.next_[i])
+        direct = not self.world_.static_hits(best[None], target[None], [self.radii_[i]])[0]
+        head = [best[None]] if direct else [best[None], a[None]]
+        self.routes_[i] = np.concatenate(head + [route[k:]])
+        self.next_[i] = 1
+        events.append({"robot": i, "kind": "sidestep", "detail": f"to {np.round(best, 3).tolist()}"})
+        return best, "sidestep"

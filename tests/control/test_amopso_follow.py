@@ -1,0 +1,115 @@
+"""The ``amopso-follow`` controller (issue 8, case 2): kernels by hand, conformance, and
+conflicts resolved by slowing down, waiting and side stepping with no contact (the
+simulator's checker and validate_trajectory decide)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmpath.control.amopso_follow import AMOPSOFollowController, moves_conflict, turned
+from swarmpath.errors import ConfigError
+from swarmpath.planning import Plan, PlanStatus, RobotPlan
+from swarmpath.planning.amopso_path import AMOPSOPathPlanner
+from swarmpath.registry import CONTROLLERS
+from swarmpath.sim.simulator import Simulator
+from swarmpath.sim.trajectory import ALL_REACHED
+from swarmpath.testing import check_controller, validate_trajectory
+from swarmpath.testing.conformance import conformance_worlds
+from swarmpath.world import Rect, RectBounds, Robot, World
+
+
+def straight_plan(world) -> Plan:
+    return Plan("straight", tuple(RobotPlan(r.id, PlanStatus.EXACT, np.array([r.start, r.goal], float))
+                                  for r in world.robots), 0.0)
+
+
+def test_turned_by_hand():
+    out = turned([1.0, 0.0], [90, -90, 45, 180])
+    np.testing.assert_allclose(out, [[0, 1], [0, -1], [np.sqrt(0.5), np.sqrt(0.5)], [-1, 0]], atol=1e-12)
+
+
+def test_moves_conflict_by_hand():
+    a, b = np.array([1.0, 1.0]), np.array([2.0, 1.0])
+    q0 = np.array([[3.0, 1.0], [2.1, 3.0], [2.1, 1.0], [1.6, 0.0], [5.0, 5.0]])
+    q1 = np.array([[2.0, 1.0],            # head-on into the same point
+                   [2.1, 2.05],           # ends 1.05 above b: far enough, another cell
+                   [1.1, 1.0],            # swaps cells with the robot (res 1)
+                   [1.6, 2.0],            # crosses the robot's segment at the same time
+                   [5.0, 5.0]])           # far away, standing
+    bad = moves_conflict(a, b, q0, q1, 0.0, np.zeros(5), 0.25, 1.0)
+    np.testing.assert_array_equal(bad, [True, False, True, True, False])
+    # same grid cell at the end although 0.6 apart: a conflict for point robots only
+    q0, q1 = np.array([[2.6, 1.9]]), np.array([[2.6, 1.9]])
+    assert moves_conflict(a, np.array([2.0, 1.5]), q0, q1, 0.0, np.zeros(1), 0.25, 1.0)[0]
+    assert not moves_conflict(a, np.array([2.0, 1.5]), q0, q1, 0.1, np.full(1, 0.1), 0.25, 1.0)[0]
+    # discs of radius 0.2: the closest approach is 0.7 (at b); conflict below 0.4 + separation
+    q = np.array([[2.0, 1.7]])
+    assert not moves_conflict(a, b, q, q, 0.2, np.full(1, 0.2), 0.25, 1.0)[0]      # 0.7 >= 0.65
+    assert moves_conflict(a, b, q, q, 0.2, np.full(1, 0.2), 0.35, 1.0)[0]          # 0.7 < 0.75
+    # already closer than the separation: only getting closer is a conflict
+    q = np.array([[1.0, 1.2]])
+    assert not moves_conflict(a, np.array([1.0, 0.8]), q, q, 0.0, np.zeros(1), 0.25, 0.1)[0]
+    assert moves_conflict(a, np.array([1.0, 1.1]), q, q, 0.0, np.zeros(1), 0.25, 0.1)[0]
+
+
+def test_registered_and_bad_configuration():
+    assert CONTROLLERS.get("amopso-follow") is AMOPSOFollowController
+    assert AMOPSOFollowController.capabilities.needs_plan
+    for kw in ({"sidestep": 0}, {"sidestep": float("inf")}, {"separation": -1}, {"patience": -1}, {"patience": 1.5}):
+        with pytest.raises(ConfigError):
+            AMOPSOFollowController(**kw)
+    w = conformance_worlds()[0]
+    with pytest.raises(ConfigError, match="needs an offline plan"):
+        Simulator(w, AMOPSOFollowController(), None).run()
+
+
+@pytest.mark.parametrize("planner", ["astar", "amopso-path"])
+def test_conformance_on_static_worlds(planner):
+    # the controller ignores moving obstacles (capabilities), so the static worlds only
+    worlds = [w for w in conformance_worlds() if not w.moving_obstacles]
+    assert check_controller(AMOPSOFollowController, planner=planner, worlds=worlds) == []
+    assert check_controller(lambda: AMOPSOFollowController(patience=0), planner=planner, worlds=worlds) == []
+
+
+def _head_on(radius: float = 0.0) -> World:
+    return World(RectBounds(10, 10), robots=(Robot("a", (1, 5), (9, 5), radius, 0.5),
+                                             Robot("b", (9, 5), (1, 5), radius, 0.5)), resolution=0.25)
+
+
+@pytest.mark.parametrize("patience", [0, 2])
+@pytest.mark.parametrize("radius", [0.0, 0.3])
+def test_head_on_robots_side_step(patience, radius):
+    w = _head_on(radius)
+    traj = Simulator(w, AMOPSOFollowController(patience=patience), straight_plan(w), seed=0, max_steps=200).run()
+    assert traj.status == ALL_REACHED
+    assert validate_trajectory(w, traj) == [] and traj.contacts == []
+    steps = [e for e in traj.events if e.get("kind") == "sidestep"]
+    assert steps and not [e for e in traj.events if e.get("kind") == "invalid_move"]
+    modes = set(traj.mode_names)
+    assert "sidestep" in modes and ("wait" in modes) == (patience > 0)
+
+
+def test_corridor_and_crossing():
+    corridor = World(RectBounds(10, 4), obstacles=(Rect((3, 0), (7, 1.3)), Rect((3, 2.7), (7, 4))),
+                     robots=(Robot("a", (1, 2), (9, 2), 0.0, 0.5), Robot("b", (9, 2), (1, 2), 0.0, 0.5)),
+                     resolution=0.25)
+    cross = World(RectBounds(10, 10), robots=(
+        Robot("a", (1, 5), (9, 5), 0.2, 0.5), Robot("b", (9, 5), (1, 5), 0.2, 0.5),
+        Robot("c", (5, 1), (5, 9), 0.2, 0.5), Robot("d", (5, 9), (5, 1), 0.2, 0.5)), resolution=0.25)
+    for w in (corridor, cross):
+        plan = AMOPSOPathPlanner().plan(w, rng=0)
+        traj = Simulator(w, AMOPSOFollowController(), plan, seed=0, max_steps=300).run()
+        assert traj.status == ALL_REACHED, w
+        assert validate_trajectory(w, traj) == [] and traj.contacts == []
+
+
+def test_a_robot_without_a_plan_stays_put_and_is_avoided():
+    # b has no plan and stands on a's goal: a comes as close as allowed, never collides, and
+    # the run ends without success (deadlock or the step budget), not with an error
+    w = _head_on()
+    plan = Plan("x", (straight_plan(w).robots[0], RobotPlan("b", PlanStatus.INFEASIBLE, None)), 0.0)
+    traj = Simulator(w, AMOPSOFollowController(), plan, seed=0, max_steps=100).run()
+    assert np.allclose(traj.positions[:, 1], [9, 5])
+    assert traj.status != ALL_REACHED
+    assert validate_trajectory(w, traj) == []
+    assert np.linalg.norm(traj.positions[:, 0] - [9, 5], axis=1).min() >= 0.25 - 1e-9
