@@ -2,5 +2,14 @@
 from swarmpath.testing.conformance import check_controller, check_planner, conformance_worlds, unreachable_world
 from swarmpath.testing.validators import Violation, validate_paths, validate_trajectory
 
-__all__ = ["check_controller", "check_planner", "conformance_worlds", "unreachable_world", "Violation",
-           "validate_paths", "validate_trajectory"]
+__all__ = ["check_controller", "check_optimizer", "check_planner", "conformance_worlds", "unreachable_world",
+           "Violation", "validate_paths", "validate_trajectory"]
+
+
+def __getattr__(name: str):
+    # the optimiser checks live beside the optimisers; imported on first use to keep this light
+    if name == "check_optimizer":
+        from swarmpath.optim.conformance import check_optimizer
+
+        return check_optimizer
+    raise AttributeError(f"module 'swarmpath.testing' has no attribute {name!r}")
