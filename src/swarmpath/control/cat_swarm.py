@@ -159,6 +159,15 @@ class CatSwarmController(Controller):
                 rems.append(remaining_lengths(cells))
                 lengths[i] = len(cells)
                 total += len(cells)
+        # robots whose exact goal lies off its cell centre reach fewer cells from it
+        goal_centres = grid.centers(self.goal_cells_)
+        self.goal_off_centre_ = np.linalg.norm(goals - goal_centres, axis=1) > 1e-9
+        around = self.goal_cells_[:, None, :] + K.OFFSETS[None]
+        inside = grid.contains_cells(around)
+        near = np.linalg.norm(grid.centers(around) - goals[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9)
+        self.goal_moves_ = inside & near & self.moves_[self.goal_cells_[:, 1], self.goal_cells_[:, 0]] \
+            if n else np.zeros((0, 9), bool)
+        self.goal_moves_[:, K.STAY] = True
         self.path_flat_ = np.concatenate(chunks) if chunks else np.zeros((1, 2), np.int64)
         self.path_rem_flat_ = np.concatenate(rems) if rems else np.zeros(1)
         self.path_start_ = starts
@@ -186,10 +195,10 @@ class CatSwarmController(Controller):
         self.path_k_[~on] = -1
         return np.where(on, self.path_rem_flat_[idx], field_here)
 
-    def _path_next(self, cells: NDArray[np.int64], static_ok, tie) -> NDArray[np.int64]:
+    def _path_next(self, cells: NDArray[np.int64], copy_fitness, static_ok, tie) -> NDArray[np.int64]:
         """Offset index of the next cell of each robot's path (0 = stay): the offline path
         while the robot is on it, else the replanned shortest path (distance field)."""
-        nxt = K.descent_step(self.fields_, self.field_index_, cells, static_ok, tie)
+        nxt = K.descent_step(copy_fitness, static_ok, tie)
         on = self.path_k_ >= 0
         idx, has_next = self._path_index(1)
         d = self.path_flat_[idx] - cells
@@ -240,12 +249,12 @@ class CatSwarmController(Controller):
         cells = grid.cell_of(pos)
         cx, cy = cells[:, 0], cells[:, 1]
         fi = self.field_index_
-        field_here = self.fields_[fi, cy, cx].astype(float)
-        remaining = self._remaining(cells, field_here)
-        events = self.monitor_.update(obs.step, remaining, at_goal)
-
         # --- candidates (step 6.1-6.3): 9 cells per robot, their targets and deletions
         copies = K.seek_copies(cells, srd=self.seeking_range, spc=self.keep_present)
+        path_fitness = K.fitness_eq12(self.fields_, fi, copies)
+        field_here = path_fitness[:, K.STAY]
+        remaining = self._remaining(cells, field_here)
+        events = self.monitor_.update(obs.step, remaining, at_goal)
         static_ok = self.moves_[cy, cx]
         targets = grid.centers(copies)
         in_goal_cell = np.all(copies == self.goal_cells_[:, None, :], axis=2)
@@ -254,13 +263,17 @@ class CatSwarmController(Controller):
         reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9) + 1e-12
         valid = static_ok & reach
         valid[:, K.STAY] = True  # staying (or settling inside one's own cell) is always a move
-        has_obstacles = len(world.moving_obstacles) > 0
         threatened = np.zeros(n, bool)
+        in_danger = np.zeros(n, bool)
         options = np.full(n, 9)
-        safety = None
-        if has_obstacles:
-            fc = self.forecast_
-            covered = fc.coverage(obs.obstacle_positions, obs.obstacle_previous, self.lookahead, margin=self.margin)
+        safety = hazard = None
+        fc = self.forecast_
+        steps = max(self.lookahead, self.hazard_horizon)
+        reach_o = fc.influence(steps) + 2 * world.resolution
+        near_o = fc.m > 0 and bool(np.any(np.max(np.abs(pos[:, None, :] - obs.obstacle_positions[None]), axis=2)
+                                          <= reach_o))
+        if near_o:
+            covered = fc.coverage(obs.obstacle_positions, obs.obstacle_previous, steps, margin=self.margin)
             xs = np.clip(copies[..., 0], 0, W - 1)
             ys = np.clip(copies[..., 1], 0, H - 1)
             valid &= ~covered[0][ys, xs]  # never where an obstacle may be next step
@@ -272,12 +285,22 @@ class CatSwarmController(Controller):
             # look-ahead: keep to the most cautious tier that leaves the robot some choice
             undecided = np.ones(n, bool)
             base = valid
+            # the tiers assume a robot at a cell centre; one that ends the step on its exact goal
+            # off the centre (a cell corner, say) can reach fewer cells next step
+            odd, odd_k = np.nonzero(in_goal_cell & self.goal_off_centre_[:, None])
+            if len(odd):
+                around = self.goal_cells_[odd][:, None, :] + K.OFFSETS[None]
+                around_x = np.clip(around[..., 0], 0, W - 1)
+                around_y = np.clip(around[..., 1], 0, H - 1)
             for depth in range(self.lookahead, 1, -1):
-                tier = K.safe_tier(covered, self.moves_, depth)
+                tier, then = K.safe_tier(covered, self.moves_, depth)
                 strict = base & tier[ys, xs]
+                if len(odd):
+                    way_out = np.any(self.goal_moves_[odd] & then[around_y, around_x], axis=1)
+                    strict[odd, odd_k] = base[odd, odd_k] & ~covered[0][around_y[:, 0], around_x[:, 0]] & way_out
                 usable = strict.any(axis=1) & undecided
                 valid = np.where(usable[:, None], strict, valid)
-                threatened |= usable & ~tier[cy, cx]
+                threatened |= usable & ~strict[:, K.STAY]
                 undecided &= ~usable
                 if not undecided.any():
                     break
@@ -286,17 +309,12 @@ class CatSwarmController(Controller):
             threatened |= safety.max(axis=1) > safety[:, K.STAY]
             threatened &= ~in_danger
             options = valid.sum(axis=1)
-        else:
-            in_danger = np.zeros(n, bool)
+            if self.hazard_horizon > 0 and self.hazard_weight > 0:
+                hazard = K.warning_levels(covered[:self.hazard_horizon], copies, self.hazard_decay)
 
         # --- fitness (eq. 12) with the early-warning term, ties by eq. 13
         tie = K.tie_break_eq13(targets, goals)
-        fitness = K.fitness_eq12(self.fields_, fi, copies)
-        if has_obstacles and self.hazard_horizon > 0 and self.hazard_weight > 0:
-            hazard = self.forecast_.hazard(obs.obstacle_positions, obs.obstacle_previous, horizon=self.hazard_horizon,
-                                           decay=self.hazard_decay)
-            fitness = fitness + self.hazard_weight * hazard[np.clip(copies[..., 1], 0, H - 1),
-                                                            np.clip(copies[..., 0], 0, W - 1)]
+        fitness = path_fitness if hazard is None else path_fitness + self.hazard_weight * hazard
         ranked = K.rank_copies(fitness, tie, valid, decimals=self.decimals_, safety=safety)
         ranked_valid = np.take_along_axis(valid, ranked, axis=1)
 
@@ -319,7 +337,7 @@ class CatSwarmController(Controller):
         trace = conflict & ~seek
 
         # --- each robot's own preference list (indices into its 9 candidates)
-        path_next = self._path_next(cells, static_ok, tie)
+        path_next = self._path_next(cells, path_fitness, static_ok, tie)
         rows = np.arange(n)
         path_ok = valid[rows, path_next] & (path_next != K.STAY)
         if safety is not None:  # do not step where an obstacle may come sooner than here
@@ -345,43 +363,31 @@ class CatSwarmController(Controller):
         # --- joint choice: isolated robots at once, the rest in priority order with yielding
         order = priority_order(self.monitor_.urgent_since, in_danger, threatened, options, active, remaining,
                                self.tiebreak_)
-        reach_pairs = cKDTree(pos).query_pairs(4.3 * world.resolution, output_type="ndarray")
-        crowded = np.zeros(n, bool)
-        if len(reach_pairs):
-            cheb = np.max(np.abs(cells[reach_pairs[:, 0]] - cells[reach_pairs[:, 1]]), axis=1)
-            near = reach_pairs[cheb <= 2]
-            crowded[near[:, 0]] = True
-            crowded[near[:, 1]] = True
+        crowded = K.crowded(cells, (H, W))
         first = own[:, 0]
         choice = np.where(first >= 0, first, K.STAY)
         yielded = np.zeros(n, bool)
         if crowded.any():
-            idx = np.flatnonzero(crowded)
             sub_order = order[crowded[order]]
             flat_cells = np.where(static_ok | (np.arange(9) == K.STAY)[None],
                                   copies[..., 1] * W + copies[..., 0], -1)
             bx = copies[..., 0] - (K.OFFSETS[:, 0] > 0)[None]
             by = copies[..., 1] - (K.OFFSETS[:, 1] > 0)[None]
             blocks = np.where(K.DIAGONAL[None], (by + 1) * (W + 2) + (bx + 1), -1)
-            cur_flat = (cy * W + cx).tolist()
-            cand_cell = [None] * n
-            cand_block = [None] * n
-            own_l = [None] * n
-            push_l = [None] * n
             can_push = (urgent | in_danger | threatened).tolist()
-            fc, bl, ow, ns = flat_cells[idx].tolist(), blocks[idx].tolist(), own[idx].tolist(), no_stay[idx].tolist()
-            for r, i in enumerate(idx.tolist()):
-                cand_cell[i] = fc[r]
-                cand_block[i] = bl[r]
-                own_l[i] = [k for k in ow[r] if k >= 0]
-                push_l[i] = [k for k in ns[r] if k >= 0]
-            sub_choice, sub_yield = reserve_moves(sub_order.tolist(), cur_flat, cand_cell, cand_block, own_l, push_l,
-                                                  can_push, stay=K.STAY)
-            sub_choice = np.asarray(sub_choice)
-            choice[idx] = sub_choice[idx]
+            fields, field_index = self.fields_, self.field_index_
+
+            def distance(i: int, cell: int) -> float:
+                return float(fields[field_index[i]].flat[cell])
+
+            sub_choice, sub_yield = reserve_moves(sub_order.tolist(), (cy * W + cx).tolist(), flat_cells.tolist(),
+                                                  blocks.tolist(), own.tolist(), no_stay.tolist(), can_push,
+                                                  stay=K.STAY, distance=distance)
+            idx = np.flatnonzero(crowded)
+            choice[idx] = np.asarray(sub_choice)[idx]
             yielded[idx] = np.asarray(sub_yield)[idx]
         new = targets[rows, choice]
-        new, held = self._verified(pos, new, cells, grid.cell_of(new), order)
+        new, held = self._verified(pos, new, cells, order)
         choice[held] = K.STAY
         new_cells = cells + K.OFFSETS[choice]
 
@@ -399,40 +405,47 @@ class CatSwarmController(Controller):
             events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
         return Decision(new, modes.tolist(), events)
 
-    def _verified(self, pos: FloatArray, new: FloatArray, cells, new_cells, order) -> tuple[FloatArray, NDArray]:
+    def _verified(self, pos: FloatArray, new: FloatArray, cells, order) -> tuple[FloatArray, NDArray]:
         """Exact robot-robot check of the chosen moves (same rules as the simulator's
-        checker); a robot in a contact is held in place, lower priority first, until none is
-        left. Catches the rare contacts cell reasoning misses (robots resting on a cell
-        corner, such as an exact goal). Returns (positions, held mask)."""
+        checker) where cell reasoning does not cover them: moves that start or end off a
+        cell centre (an exact start or goal on a cell corner, say). A robot in a contact is
+        held in place, lower priority first, and the robots around it are checked again.
+        Returns (positions, held mask)."""
         n = len(pos)
+        grid = self.grid_
         held = np.zeros(n, bool)
+        new_cells = grid.cell_of(new)
+        special = (np.linalg.norm(pos - grid.centers(cells), axis=1) > 1e-9) | \
+            (np.linalg.norm(new - grid.centers(new_cells), axis=1) > 1e-9)
+        if not special.any() or n < 2:
+            return new, held
         rank = np.empty(n, np.int64)
         rank[order] = np.arange(n)
         out = new.copy()
+        tree = cKDTree(pos)
+        check = special
         for _ in range(n + 1):
-            pairs = cKDTree(pos).query_pairs(4.3 * self.world_.resolution, output_type="ndarray")
-            if len(pairs) == 0:
+            idx = np.flatnonzero(check)
+            if len(idx) == 0:
                 break
-            i, j = pairs[:, 0], pairs[:, 1]
-            c1 = self.grid_.cell_of(out)
+            near = tree.query_ball_point(pos[idx], 4.3 * self.world_.resolution)
+            i = np.repeat(idx, [len(v) for v in near])
+            j = np.fromiter((x for v in near for x in v), np.int64, count=len(i))
+            keep = i != j
+            i, j = i[keep], j[keep]
+            c1 = grid.cell_of(out)
             same = np.all(c1[i] == c1[j], axis=1)
             swap = np.all(c1[i] == cells[j], axis=1) & np.all(c1[j] == cells[i], axis=1)
             touch = geo.relative_min_distance(pos[i], out[i], pos[j], out[j]) < 1e-7
             bad = np.flatnonzero(same | swap | touch)
-            if len(bad) == 0:
-                break
-            changed = False
+            check = np.zeros(n, bool)
             for k in bad:
                 a, b = int(i[k]), int(j[k])
-                moved_a = np.any(out[a] != pos[a])
-                moved_b = np.any(out[b] != pos[b])
-                cands = [x for x, m in ((a, moved_a), (b, moved_b)) if m]
-                if not cands:
+                movers = [x for x in (a, b) if np.any(out[x] != pos[x])]
+                if not movers:
                     continue
-                victim = max(cands, key=lambda x: rank[x])
+                victim = max(movers, key=lambda x: rank[x])
                 out[victim] = pos[victim]
                 held[victim] = True
-                changed = True
-            if not changed:
-                break
+                check[victim] = True
         return out, held

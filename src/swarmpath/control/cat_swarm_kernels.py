@@ -117,34 +117,65 @@ def rank_copies(fitness: FloatArray, tie: FloatArray, valid: BoolArray, *, decim
     return order
 
 
-def descent_step(fields: NDArray, field_index: IntArray, cells: IntArray, static_ok: BoolArray,
-                 tie: FloatArray) -> IntArray:
+def descent_step(copy_fitness: FloatArray, static_ok: BoolArray, tie: FloatArray) -> IntArray:
     """The next cell of each robot's replanned shortest path (step 6.6's "replanning"): the
-    neighbour minimising step cost + distance-to-goal, ties by eq. 13. Returns the offset
-    index (n,) (0 when the robot is at its goal or walled in)."""
-    copies = cells[:, None, :] + OFFSETS[None]
-    cost = fitness_eq12(fields, field_index, copies) + STEP_COST[None]
+    neighbour minimising step cost + distance-to-goal (``copy_fitness`` (n, 9) = eq. 12 of the
+    9 candidates, index 0 the present cell), ties by eq. 13. Returns the offset index (n,)
+    (0 when the robot is at its goal or walled in)."""
+    cost = copy_fitness + STEP_COST[None]
     valid = static_ok.copy()
     valid[:, STAY] = False
     order = rank_copies(cost, tie, valid)
     best = order[:, 0]
-    here = fitness_eq12(fields, field_index, cells[:, None, :])[:, 0]
+    here = copy_fitness[:, STAY]
     best_cost = np.take_along_axis(cost, best[:, None], axis=1)[:, 0]
-    stuck = ~valid[np.arange(len(cells)), best] | ~(best_cost < here + 1e-6) | (here <= 0)
+    stuck = ~valid[np.arange(len(copy_fitness)), best] | ~(best_cost < here + 1e-3) | (here <= 0)
     return np.where(stuck, STAY, best)
 
 
-def safe_tier(covered: list[BoolArray], moves: BoolArray, depth: int) -> BoolArray:
+def crowded(cells: IntArray, shape: tuple[int, int], reach: int = 2) -> BoolArray:
+    """Robots with another robot within ``reach`` cells (Chebyshev), shape (n,): only those
+    can compete for a cell or a crossing this step (both move one cell)."""
+    h, w = shape
+    occ = np.zeros((h + 2 * reach + 1, w + 2 * reach + 1), np.int32)
+    np.add.at(occ, (cells[:, 1] + reach + 1, cells[:, 0] + reach + 1), 1)
+    sat = occ.cumsum(0).cumsum(1)
+    x0, y0 = cells[:, 0] + 1, cells[:, 1] + 1
+    x1, y1 = x0 + 2 * reach + 1, y0 + 2 * reach + 1
+    count = sat[y1 - 1, x1 - 1] - sat[y0 - 1, x1 - 1] - sat[y1 - 1, x0 - 1] + sat[y0 - 1, x0 - 1]
+    return count > 1
+
+
+def safe_tier(covered: list[BoolArray], moves: BoolArray, depth: int) -> tuple[BoolArray, BoolArray]:
     """Cells where a robot may end this step and still keep clear of every moving obstacle
     for ``depth`` steps whatever the obstacles do, shape (height, width). ``covered`` =
     [D_1, ..., D_K] are the cells obstacles may cover in each of the next K >= depth steps.
     Backward induction: S_depth = not D_depth, S_k = not D_k and one allowed move away from
-    S_(k+1); the answer is S_1 (depth 1: simply "not D_1"). Extends step 6.3's deletion
-    (current and next positions of objects) with a look-ahead."""
+    S_(k+1). Returns (S_1, S_2) (S_2: where the robot must be able to go next step; all True
+    for depth 1). Extends step 6.3's deletion (current and next positions of objects) with a
+    look-ahead."""
     safe = ~covered[depth - 1]
+    after = np.ones_like(safe)
     for k in range(depth - 1, 0, -1):
+        after = safe
         safe = ~covered[k - 1] & escape_cells(~safe, moves)
-    return safe
+    return safe, after
+
+
+def warning_levels(covered: list[BoolArray], cells: IntArray, decay: float) -> FloatArray:
+    """A soft warning for ``cells`` (..., 2) in [0, 1]: decay ** (k - 1) when an obstacle may
+    cover a cell within one cell of it k steps from now (k = 1, 2, ...), the largest value
+    where several apply. Added (weighted) to eq. 12's fitness so that robots step out of an
+    obstacle's way early instead of being cornered (ours, not the paper's)."""
+    h, w = covered[0].shape
+    ring = cells[..., None, :] + OFFSETS
+    x = np.clip(ring[..., 0], 0, w - 1)
+    y = np.clip(ring[..., 1], 0, h - 1)
+    out = np.zeros(cells.shape[:-1])
+    for k in range(len(covered) - 1, -1, -1):
+        near = covered[k][y, x].any(axis=-1)
+        out = np.where(near, decay ** k, out)
+    return out
 
 
 def stay_depth(covered: list[BoolArray]) -> NDArray[np.int64]:

@@ -252,37 +252,14 @@ class ObstacleForecast:
             out.append(paint(self.shape, box_cell_ranges(lo, hi, self.resolution, margin)))
         return out
 
-    def hazard(self, positions: FloatArray, previous: FloatArray, *, horizon: int, decay: float = 0.5,
-               margin: int = 1) -> NDArray[np.float32]:
-        """A soft warning map (height, width) with values in [0, 1]: decay ** (k - 1) on
-        cells an obstacle may cover within k steps (k = 1 ... horizon) — straight-line
-        extrapolation while the way is free for the bouncing models, then (and for the random
-        ones) anything within k steps of travel. Robots use it to step out of an obstacle's
-        way early instead of being cornered."""
-        out = np.zeros(self.shape, np.float32)
-        if self.m == 0 or horizon < 1:
-            return out
-        m = self.m
-        p = np.asarray(positions, float).reshape(m, 2)
-        d = p - np.asarray(previous, float).reshape(m, 2)
-        moving = np.hypot(d[:, 0], d[:, 1]) > _MOVING
-        straight = np.isin(self.code, (BOUNCE, BOUNCE8)) & moving
-        ks = np.arange(1, horizon + 1)
-        ahead = p[:, None, :] + d[:, None, :] * ks[None, :, None]
-        ok = self.fits(np.repeat(np.arange(m), horizon), ahead.reshape(-1, 2)).reshape(m, horizon)
-        free_run = np.where(ok.all(axis=1), horizon, np.argmin(ok, axis=1))
-        free_run = np.where(straight, free_run, 0)
-        spread_step = np.where(self.code == RANDOM_WALK, self.walk_step, np.maximum(self.speed, np.hypot(*d.T)))
-        for k in ks:
-            on_line = k <= free_run
-            a = p + d * np.where(on_line, k - 1, free_run)[:, None]
-            b = np.where(on_line[:, None], p + d * k, a)
-            grow = np.where(on_line, 0.0, (k - free_run) * spread_step)[:, None]
-            lo = np.minimum(a, b) + self.lo - grow
-            hi = np.maximum(a, b) + self.hi + grow
-            covered = paint(self.shape, box_cell_ranges(lo, hi, self.resolution, margin))
-            np.maximum(out, np.float32(decay ** (k - 1)) * covered, out=out)
-        return out
+    def influence(self, steps: int) -> float:
+        """How far (world units, Chebyshev) from an obstacle's position anything it may do in
+        the next ``steps`` steps can reach; robots farther away need no forecast."""
+        if self.m == 0:
+            return 0.0
+        extent = float(np.max(np.abs(np.concatenate([self.lo, self.hi]))))
+        fastest = float(np.max(np.maximum(self.speed, self.walk_step), initial=0.0))
+        return extent + (steps + 1) * fastest
 
     def crossings(self, starts: FloatArray, ends: FloatArray, positions: FloatArray) -> BoolArray:
         """Whether each move starts[r] -> ends[r, c] (shapes (k, 2) and (k, c, 2)) passes

@@ -9,8 +9,9 @@ refused). When the cell it wants is occupied by a robot that has not decided yet
 
 - a robot allowed to push (urgent or endangered, see :mod:`swarmpath.control.deadlock`)
   makes the occupant yield: the occupant must move to one of its ``pushed`` cells, pushing
-  further if needed (priority inheritance); if it cannot, it stays and the pusher tries its
-  next candidate;
+  further if needed (priority inheritance); it prefers cells that are not further along the
+  pusher's way (so it steps aside into a niche rather than being herded down a corridor);
+  if it cannot move, it stays and the pusher tries its next candidate;
 - any other robot asks the occupant to move first along its ``own`` list without staying;
   if it will not, nothing changes and the asker tries its next candidate.
 
@@ -19,7 +20,7 @@ resolved at once (vectorised) by the caller; only the rest goes through this loo
 """
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Callable, Sequence
 
 MAX_DEPTH = 128
 OWN, ASK, PUSH = 0, 1, 2
@@ -27,14 +28,16 @@ OWN, ASK, PUSH = 0, 1, 2
 
 def reserve_moves(order: Sequence[int], cur: Sequence[int], cand_cell: Sequence[Sequence[int]],
                   cand_block: Sequence[Sequence[int]], own: Sequence[Sequence[int]],
-                  pushed: Sequence[Sequence[int]], can_push: Sequence[bool], stay: int = 0
-                  ) -> tuple[list[int], list[bool]]:
+                  pushed: Sequence[Sequence[int]], can_push: Sequence[bool], stay: int = 0,
+                  distance: Callable[[int, int], float] | None = None) -> tuple[list[int], list[bool]]:
     """Choose one candidate index per robot listed in ``order`` (others keep -1).
 
     cur[i] : flat id of robot i's current cell; cand_cell[i][k] : flat id of its k-th
     candidate cell (``stay`` indexes the current cell); cand_block[i][k] : id of the 2x2 block
-    a diagonal move crosses, -1 for other moves. Returns (choice per robot, whether the robot
-    was made to yield)."""
+    a diagonal move crosses, -1 for other moves. Preference lists end at their first -1
+    (``pushed`` lists skip -1 entries). ``distance(i, cell)`` is robot i's remaining path
+    length from a cell (used to keep yielding robots off the pusher's way). Returns (choice
+    per robot, whether the robot was made to yield)."""
     n = len(cur)
     choice = [-1] * n
     yielded = [False] * n
@@ -42,15 +45,24 @@ def reserve_moves(order: Sequence[int], cur: Sequence[int], cand_cell: Sequence[
     taken: dict[int, int] = {}
     blocks: dict[int, int] = {}
 
-    def attempt(i: int, how: int, depth: int) -> bool:
+    def attempt(i: int, how: int, depth: int, pusher: int = -1) -> bool:
         if how == PUSH:
             prefs = pushed[i]
+            if distance is not None and pusher >= 0:
+                limit = distance(pusher, cur[i])
+                cells_i = cand_cell[i]
+                prefs = sorted((k for k in prefs if k >= 0),
+                               key=lambda k: cells_i[k] < 0 or distance(pusher, cells_i[k]) < limit)
         else:
             prefs = own[i]
         cells = cand_cell[i]
         blks = cand_block[i]
         here = cur[i]
         for k in prefs:
+            if k < 0:
+                if how == PUSH:
+                    continue  # the pushed list has a hole where staying was
+                break
             if how == ASK and k == stay:
                 break  # asked robots only move if they would move anyway
             v = cells[k]
@@ -73,7 +85,7 @@ def reserve_moves(order: Sequence[int], cur: Sequence[int], cand_cell: Sequence[
                     choice[i] = k
                     if b >= 0:
                         blocks[b] = i
-                    if attempt(j, sub, depth + 1):
+                    if attempt(j, sub, depth + 1, i):
                         if how == PUSH:
                             yielded[i] = True
                         return True

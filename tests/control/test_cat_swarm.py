@@ -1,0 +1,349 @@
+"""The cat-swarm controller: its kernels against hand-computed values (eq. 10-13, copies,
+deletions, look-ahead), the reservation of joint moves, the obstacle forecast, the cell
+paths, and the controller itself on small worlds (conformance, determinism, avoidance)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmpath.control import cat_swarm_kernels as K
+from swarmpath.control.cat_swarm import CatSwarmController
+from swarmpath.control.cell_paths import plan_cells, polyline_cells, remaining_lengths, repair_cells, tidy_cells
+from swarmpath.control.hazards import ObstacleForecast, box_cell_ranges, paint
+from swarmpath.control.reservation import reserve_moves
+from swarmpath.errors import ConfigError
+from swarmpath.planning import plan
+from swarmpath.sim import Simulator
+from swarmpath.testing import check_controller, validate_trajectory
+from swarmpath.world import Bounce, Bounce8, RandomWalk, Rect, RectBounds, Robot, StaticMap, World
+from swarmpath.world.moving import MovingObstacle
+
+S2 = float(np.sqrt(2))
+
+
+# ---------------------------------------------------------------------------- eq. 10-11
+@pytest.mark.parametrize("n, expected", [(12, (5, 7)), (2, (1, 1)), (1, (0, 1)), (3, (1, 2)), (0, (0, 0))])
+def test_mixture_counts_follow_eq_10_11(n, expected) -> None:
+    assert K.mixture_counts(n, 0.4) == expected
+
+
+def test_mixture_split_gives_seek_to_the_longest_paths_in_each_group() -> None:
+    remaining = np.array([10.0, 5.0, 8.0, 1.0, 3.0, 4.0])
+    groups = np.array([0, 0, 0, 0, 1, 1])
+    seek = K.mixture_split(remaining, groups, 0.5, np.zeros(6))
+    assert seek.tolist() == [True, False, True, False, False, True]
+    # MR 0.4: group of 4 -> 2 seek (1.6 rounds to 2), group of 2 -> 1 seek
+    assert K.mixture_split(remaining, groups, 0.4, np.zeros(6)).tolist() == [True, False, True, False, False, True]
+
+
+def test_mixture_split_breaks_ties_with_the_random_keys() -> None:
+    remaining = np.array([5.0, 5.0])
+    groups = np.zeros(2, np.int64)
+    assert K.mixture_split(remaining, groups, 0.4, np.array([0.9, 0.1])).tolist() == [False, True]
+    assert K.mixture_split(remaining, groups, 0.4, np.array([0.1, 0.9])).tolist() == [True, False]
+
+
+# ---------------------------------------------------------------------------- seek copies and deletion
+def test_seek_copies_are_the_present_cell_and_its_eight_neighbours() -> None:
+    copies = K.seek_copies(np.array([[4, 7]]))
+    assert copies.shape == (1, 9, 2)
+    assert copies[0, K.STAY].tolist() == [4, 7]
+    assert sorted(map(tuple, (copies[0, 1:] - [4, 7]).tolist())) == sorted(
+        (dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1) if (dx, dy) != (0, 0))
+
+
+def test_move_table_deletes_copies_on_obstacles_outside_and_across_corners() -> None:
+    blocked = np.zeros((3, 3), bool)
+    blocked[1, 2] = True  # cell (2, 1)
+    moves = K.move_table(blocked)
+    k = {tuple(o): i for i, o in enumerate(K.OFFSETS.tolist())}
+    at = moves[1, 1]  # from the centre cell (1, 1)
+    assert not at[k[(1, 0)]]        # onto the blocked cell
+    assert not at[k[(1, 1)]]        # diagonal past it (corner cutting)
+    assert not at[k[(1, -1)]]
+    assert at[k[(-1, 1)]] and at[k[(0, 1)]] and at[k[(0, 0)]]
+    assert not moves[0, 0][k[(-1, -1)]]  # off the grid
+    assert not moves[1, 2].any()         # nothing from inside a blocked cell
+
+
+def test_fitness_eq12_reads_each_robots_goal_field() -> None:
+    fields = np.arange(2 * 3 * 4, dtype=float).reshape(2, 3, 4)
+    copies = np.array([[[0, 0], [3, 2]], [[1, 1], [2, 0]]])
+    out = K.fitness_eq12(fields, np.array([0, 1]), copies)
+    assert out.tolist() == [[0.0, 11.0], [17.0, 14.0]]
+
+
+def test_tie_break_eq13_is_the_straight_distance_to_the_goal() -> None:
+    pts = np.array([[[0.0, 0.0], [3.0, 4.0]]])
+    assert K.tie_break_eq13(pts, np.array([[0.0, 0.0]])).tolist() == [[0.0, 5.0]]
+
+
+def test_rank_copies_orders_by_safety_then_fitness_then_eq13_and_puts_deleted_last() -> None:
+    fitness = np.array([[3.0, 2.0, 2.0, 1.0]])
+    tie = np.array([[0.0, 5.0, 4.0, 0.0]])
+    valid = np.array([[True, True, True, False]])
+    assert K.rank_copies(fitness, tie, valid).tolist() == [[2, 1, 0, 3]]
+    safety = np.array([[2, 1, 1, 2]])
+    assert K.rank_copies(fitness, tie, valid, safety=safety).tolist() == [[0, 2, 1, 3]]
+
+
+def test_descent_step_follows_the_distance_field() -> None:
+    fit = np.full((2, 9), 10.0)
+    fit[0, K.STAY] = 5.0
+    fit[0, 1] = 4.0          # east: 1 + 4 = 5 = here, on a shortest path
+    fit[0, 2] = 5.0 - S2     # north-east: also shortest; eq. 13 decides
+    fit[1, K.STAY] = 0.0     # robot 1 is at its goal
+    ok = np.ones((2, 9), bool)
+    tie = np.zeros((2, 9))
+    tie[0, 1] = 1.0
+    assert K.descent_step(fit, ok, tie).tolist() == [2, K.STAY]
+    ok[0, 2] = False
+    assert K.descent_step(fit, ok, tie).tolist() == [1, K.STAY]
+
+
+# ---------------------------------------------------------------------------- look-ahead kernels
+def test_escape_cells_need_an_allowed_move_to_a_safe_cell() -> None:
+    blocked = np.zeros((3, 5), bool)
+    unsafe = np.zeros((3, 5), bool)
+    unsafe[:, :3] = True  # columns 0-2 unsafe
+    out = K.escape_cells(unsafe, K.move_table(blocked))
+    assert out[:, 2].all() and not out[:, 1].any() and out[:, 3:].all()
+    blocked[:, 3] = True  # a wall: column 2 can no longer get out
+    out = K.escape_cells(unsafe, K.move_table(blocked))
+    assert not out[:, 2].any()
+
+
+def test_safe_tier_and_stay_depth_by_backward_induction() -> None:
+    moves = K.move_table(np.zeros((1, 5), bool))
+    d1 = np.array([[1, 0, 0, 0, 0]], bool)
+    d2 = np.array([[1, 1, 0, 0, 0]], bool)
+    d3 = np.array([[1, 1, 1, 0, 0]], bool)
+    covered = [d1, d2, d3]
+    assert K.safe_tier(covered, moves, 1)[0][0].tolist() == [False, True, True, True, True]
+    # cell 1 is free next step and can reach cell 2 ... which is hit at step 3 unless left again
+    tier, then = K.safe_tier(covered, moves, 3)
+    assert tier[0].tolist() == [False, True, True, True, True]
+    assert then[0].tolist() == [False, False, True, True, True]
+    assert K.stay_depth(covered)[0].tolist() == [0, 1, 2, 3, 3]
+    walled = K.move_table(np.array([[False, False, True, False, False]]))
+    assert K.safe_tier(covered, walled, 3)[0][0].tolist() == [False, False, False, True, True]
+
+
+def test_warning_levels_decay_with_time_and_reach_one_cell_around() -> None:
+    d1 = np.zeros((1, 7), bool)
+    d1[0, 0] = True
+    d2 = np.zeros((1, 7), bool)
+    d2[0, 3] = True
+    cells = np.array([[x, 0] for x in range(7)])
+    assert K.warning_levels([d1, d2], cells, 0.5).tolist() == [1.0, 1.0, 0.5, 0.5, 0.5, 0.0, 0.0]
+
+
+def test_crowded_marks_robots_within_two_cells() -> None:
+    cells = np.array([[0, 0], [2, 2], [6, 6], [9, 9], [9, 7]])
+    assert K.crowded(cells, (10, 10)).tolist() == [True, True, False, True, True]
+
+
+# ---------------------------------------------------------------------------- joint moves
+def flat(x, y, w=10):
+    return y * w + x
+
+
+def lists(cells_per_robot, w=10):
+    """Candidate cell ids and diagonal block ids for robots given their 9 candidate cells."""
+    cand, blocks = [], []
+    for (x, y) in cells_per_robot:
+        cand.append([flat(x + dx, y + dy, w) for dx, dy in K.OFFSETS.tolist()])
+        blocks.append([(min(y, y + dy) + 1) * (w + 2) + min(x, x + dx) + 1 if dx and dy else -1
+                       for dx, dy in K.OFFSETS.tolist()])
+    return cand, blocks
+
+
+def idx(offset):
+    return [tuple(o) for o in K.OFFSETS.tolist()].index(offset)
+
+
+def test_reservation_lets_a_robot_follow_but_never_swap() -> None:
+    cells = [(1, 1), (2, 1)]
+    cand, blocks = lists(cells)
+    cur = [flat(*c) for c in cells]
+    east, west = idx((1, 0)), idx((-1, 0))
+    # robot 1 leads east, robot 0 follows into its cell
+    choice, _ = reserve_moves([1, 0], cur, cand, blocks, [[east, 0], [east, 0]], [[], []], [False, False])
+    assert choice == [east, east]
+    # head-on: robot 0 wants east, robot 1 wants west -> the second cannot swap
+    choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[east, 0], [west, 0]], [[], []], [False, False])
+    assert sorted(choice) == sorted([0, west]) or choice == [0, 0]
+    assert not (choice[0] == east and choice[1] == west)
+
+
+def test_reservation_refuses_crossing_diagonals_and_shared_cells() -> None:
+    cells = [(1, 1), (2, 1)]
+    cand, blocks = lists(cells)
+    cur = [flat(*c) for c in cells]
+    ne, nw = idx((1, 1)), idx((-1, 1))
+    choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[ne, 0], [nw, 0]], [[], []], [False, False])
+    assert choice == [ne, 0]  # robot 1 would cross robot 0's diagonal
+    up, upleft = idx((0, 1)), idx((-1, 1))
+    cells = [(1, 1), (3, 1)]
+    cand, blocks = lists(cells)
+    cur = [flat(*c) for c in cells]
+    choice, _ = reserve_moves([1, 0], cur, cand, blocks, [[ne, 0], [upleft, 0]], [[], []], [False, False])
+    assert choice == [0, upleft]  # both wanted (2, 2): the first in order gets it
+
+
+def test_pushing_makes_the_occupant_yield_and_asking_does_not() -> None:
+    cells = [(1, 1), (2, 1)]
+    cand, blocks = lists(cells)
+    cur = [flat(*c) for c in cells]
+    east, north = idx((1, 0)), idx((0, 1))
+    own = [[east, 0], [0]]  # robot 1 is happy where it is
+    pushed = [[], [north]]
+    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, pushed, [False, False])
+    assert choice == [0, 0] and yielded == [False, False]  # asked, it stays
+    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, pushed, [True, False])
+    assert choice == [east, north] and yielded == [False, True]  # pushed, it moves aside
+    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, [[], []], [True, False])
+    assert choice == [0, 0]  # nowhere to go: the pusher tries its next candidate
+
+
+# ---------------------------------------------------------------------------- obstacle forecast
+def open_world(moving, size=10, blocked=None) -> World:
+    sm = StaticMap(np.zeros((size, size), bool) if blocked is None else blocked, 1.0)
+    return World(RectBounds(size, size), static_map=sm, moving_obstacles=tuple(moving),
+                 robots=(Robot("a", (0.5, 0.5), (0.5, 1.5), 0.0, S2),), name="f")
+
+
+def box(at, v, motion) -> MovingObstacle:
+    return MovingObstacle("m", Rect((-0.5, -0.5), (0.5, 0.5)), at, v, motion)
+
+
+def test_box_cell_ranges_cover_overlapped_cells_only() -> None:
+    r = box_cell_ranges(np.array([[2.0, 3.0]]), np.array([[3.0, 4.0]]), 1.0)
+    assert r.tolist() == [[2, 3, 3, 4]]  # exactly cell (2, 3); touching neighbours excluded
+    r = box_cell_ranges(np.array([[2.2, 3.0]]), np.array([[3.2, 4.0]]), 1.0, margin=1)
+    assert r.tolist() == [[1, 2, 5, 5]]
+    grid = paint((5, 6), r)
+    assert grid.sum() == 4 * 3 and grid[2:5, 1:5].all()
+
+
+def test_forecast_predicts_straight_moves_and_bounces() -> None:
+    world = open_world([box((4.5, 4.5), (1.0, 0.0), Bounce8())])
+    fc = ObstacleForecast(world, world.grid())
+    cand, possible, extra = fc.next_positions(np.array([[4.5, 4.5]]), np.array([[3.5, 4.5]]))
+    assert cand[0][possible[0]].tolist() == [[5.5, 4.5]] and extra[0] == 0
+    danger = fc.danger(np.array([[4.5, 4.5]]), np.array([[3.5, 4.5]]))
+    assert np.argwhere(danger).tolist() == [[4, 4], [4, 5]]  # now and next cell
+    # against the east wall it may turn anywhere free (and the pull-back to the west too)
+    cand, possible, _ = fc.next_positions(np.array([[9.5, 4.5]]), np.array([[8.5, 4.5]]))
+    options = {tuple(np.round(p, 3)) for p in cand[0][possible[0]]}
+    assert (9.5, 4.5) in options and (8.5, 4.5) in options and len(options) == 6
+
+
+def test_forecast_of_a_random_walker_covers_its_neighbourhood() -> None:
+    world = open_world([box((4.5, 4.5), (1.0, 0.0), RandomWalk())])
+    fc = ObstacleForecast(world, world.grid())
+    danger = fc.danger(np.array([[4.5, 4.5]]), np.array([[3.5, 4.5]]))
+    assert danger.sum() == 9 and danger[3:6, 3:6].all()
+    later = fc.coverage(np.array([[4.5, 4.5]]), np.array([[3.5, 4.5]]), 3)
+    assert [int(c.sum()) for c in later] == [9, 25, 49]
+
+
+def test_forecast_fits_matches_the_world_exactly() -> None:
+    blocked = np.zeros((10, 10), bool)
+    blocked[5, 5] = True
+    world = open_world([box((2.5, 2.5), (1.0, 0.0), Bounce())], blocked=blocked)
+    fc = ObstacleForecast(world, world.grid())
+    rng = np.random.default_rng(0)
+    pts = rng.uniform(-0.5, 10.5, size=(400, 2))
+    assert np.array_equal(fc.fits(np.zeros(400, np.int64), pts), world.obstacle_fits(world.moving_obstacles[0], pts))
+
+
+# ---------------------------------------------------------------------------- cell paths
+def test_polyline_cells_are_8_connected_without_staircases_or_loops() -> None:
+    blocked = np.zeros((6, 6), bool)
+    cells = polyline_cells(np.array([[0.5, 0.5], [4.5, 4.5]]), 1.0)
+    assert np.max(np.abs(np.diff(cells, axis=0))) == 1
+    tidy = tidy_cells(cells, blocked)
+    assert tidy.tolist() == [[i, i] for i in range(5)]
+    loop = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [1, 0], [1, 1]])
+    assert tidy_cells(loop, blocked).tolist() == [[0, 0], [1, 1]]
+
+
+def test_repair_replaces_blocked_stretches_with_a_star() -> None:
+    blocked = np.zeros((5, 5), bool)
+    blocked[2, 1:4] = True  # a wall across row 2, open at x = 0 and x = 4
+    straight = np.array([[2, 0], [2, 1], [2, 2], [2, 3], [2, 4]])
+    fixed = repair_cells(straight, blocked)
+    assert fixed is not None and fixed[0].tolist() == [2, 0] and fixed[-1].tolist() == [2, 4]
+    assert not blocked[fixed[:, 1], fixed[:, 0]].any()
+    assert np.max(np.abs(np.diff(fixed, axis=0))) == 1
+    assert plan_cells(np.array([[2.5, 0.5], [2.5, 4.5]]), 1.0, blocked) is not None
+    assert remaining_lengths(np.array([[0, 0], [1, 1], [2, 1]])).tolist() == pytest.approx([1 + S2, 1.0, 0.0])
+
+
+# ---------------------------------------------------------------------------- the controller
+def test_cat_swarm_conforms() -> None:
+    assert check_controller(CatSwarmController) == []
+    assert check_controller(CatSwarmController, planner=None) == []
+
+
+@pytest.mark.parametrize("kw", [{"mixture_ratio": 1.5}, {"seeking_range": 2}, {"obstacle_alert": "near"},
+                                {"lookahead": 0}, {"leave_early": 9}, {"patience": 0}, {"margin": -1}])
+def test_bad_parameters_are_reported(kw) -> None:
+    world = open_world([])
+    with pytest.raises(ConfigError):
+        CatSwarmController(**kw).reset(world, None, np.random.default_rng(0))
+
+
+def test_robots_too_slow_for_one_cell_a_step_are_reported() -> None:
+    world = World(RectBounds(5, 5), robots=(Robot("a", (0.5, 0.5), (4.5, 0.5), 0.0, 0.5),), name="slow")
+    with pytest.raises(ConfigError, match="max_speed"):
+        CatSwarmController().reset(world, None, np.random.default_rng(0))
+
+
+def crossing_world() -> World:
+    """Eight robots crossing a 7x7 room through its centre: everyone meets everyone."""
+    robots = []
+    for k, (a, b) in enumerate([((0, 3), (6, 3)), ((6, 3), (0, 3)), ((3, 0), (3, 6)), ((3, 6), (3, 0)),
+                                ((0, 0), (6, 6)), ((6, 6), (0, 0)), ((0, 6), (6, 0)), ((6, 0), (0, 6))]):
+        robots.append(Robot(f"r{k}", (a[0] + 0.5, a[1] + 0.5), (b[0] + 0.5, b[1] + 0.5), 0.0, S2))
+    return World(RectBounds(7, 7), robots=tuple(robots), name="crossing7")
+
+
+def test_a_crowded_crossing_is_collision_free_and_everyone_arrives() -> None:
+    world = crossing_world()
+    for seed in range(3):
+        traj = Simulator(world, CatSwarmController(), plan(world, "astar"), seed=seed, max_steps=200).run()
+        assert validate_trajectory(world, traj) == []
+        assert traj.status == "all_reached"
+        assert "seek" in traj.mode_names
+
+
+def test_follow_would_collide_in_the_same_crossing() -> None:
+    from swarmpath.control.follow import FollowController
+
+    world = crossing_world()
+    traj = Simulator(world, FollowController(), plan(world, "astar"), seed=0, max_steps=200).run()
+    assert len(traj.contacts) > 0  # the scenario really needs avoidance
+
+
+def test_a_robot_steps_out_of_an_oncoming_obstacles_way() -> None:
+    # a 1-cell block runs along row 2 toward a robot parked on its goal in that row
+    # (robot b keeps the run going while the block comes)
+    world = World(RectBounds(12, 5), robots=(Robot("a", (9.5, 2.5), (9.5, 2.5), 0.0, S2),
+                                             Robot("b", (0.5, 0.5), (11.5, 0.5), 0.0, S2)),
+                  moving_obstacles=(box((1.5, 2.5), (1.0, 0.0), Bounce()),), name="oncoming")
+    traj = Simulator(world, CatSwarmController(), None, seed=0, max_steps=30).run()
+    assert validate_trajectory(world, traj) == []
+    rows = np.floor(traj.positions[:, 0, 1]).astype(int)
+    assert (rows != 2).any()  # it left the row ...
+    assert traj.modes is not None and {"evade", "escape"} & set(traj.mode_names)
+
+
+def test_arrival_uses_the_exact_goal_and_start_off_cell_centres() -> None:
+    world = World(RectBounds(6, 6), robots=(Robot("a", (1.0, 1.0), (4.0, 4.0), 0.0, S2),
+                                            Robot("b", (4.0, 1.0), (1.0, 4.0), 0.0, S2)), name="corners")
+    traj = Simulator(world, CatSwarmController(), plan(world, "astar"), seed=0).run()
+    assert validate_trajectory(world, traj) == []
+    assert traj.status == "all_reached"
+    assert np.allclose(traj.positions[-1], world.goals)

@@ -1,0 +1,131 @@
+"""Acceptance of the online phase (issue 4): the cat swarm against the simulator's own
+checker on the paper's scenario, a crowded random map with moving obstacles, and a MovingAI
+benchmark; plus determinism. Numbers are printed (run with -s to see them)."""
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from swarmpath.control.cat_swarm import CatSwarmController
+from swarmpath.registry import PLANNERS
+from swarmpath.search import astar, distance_field
+from swarmpath.sim import Simulator, run_world
+from swarmpath.testing import check_controller, validate_trajectory
+from swarmpath.world import (Bounce8, RandomWalk, Rect, RectBounds, Robot, StaticMap, World, load_scenario,
+                             world_from_movingai)
+from swarmpath.world.moving import MovingObstacle
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+S2 = float(np.sqrt(2))
+PLANNERS_FOR_JALEEL = [p for p in ("hybrid-apf", "astar") if p in PLANNERS]
+
+
+# ---------------------------------------------------------------------------- the paper's scenario
+@pytest.mark.slow
+@pytest.mark.parametrize("planner", PLANNERS_FOR_JALEEL)
+def test_jaleel2016_every_robot_arrives_without_any_collision_for_20_seeds(planner) -> None:
+    world = load_scenario("jaleel2016")
+    seek_share = []
+    for seed in range(20):
+        result = run_world(world, planner=planner, controller="cat-swarm", seed=seed, clearance=False)
+        traj = result.trajectory
+        assert validate_trajectory(world, traj) == [], f"seed {seed}"
+        assert result.summary["collisions"] == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
+        assert result.summary["success"], f"seed {seed}: {result.summary['reached']} of 12 arrived"
+        seek = traj.mode_names.index("seek") if "seek" in traj.mode_names else -1
+        seek_share.append(float(np.mean(traj.modes == seek)))
+    print(f"\njaleel2016 / {planner}: 20 of 20 seeds collision-free, every robot arrived; "
+          f"mean share of robot-steps in seek mode {np.mean(seek_share):.3f}")
+
+
+def test_jaleel2016_with_follow_collides() -> None:
+    world = load_scenario("jaleel2016")
+    planner = PLANNERS_FOR_JALEEL[0]
+    found = [sum(run_world(world, planner=planner, controller="follow", seed=s, clearance=False)
+                 .summary["collisions"].values()) for s in range(3)]
+    print(f"\njaleel2016 / {planner} / follow: collisions per seed {found}")
+    assert sum(found) > 0
+
+
+# ---------------------------------------------------------------------------- 100 robots, moving obstacles
+def random_world(seed: int, n_robots: int = 100, n_moving: int = 20, size: int = 64, density: float = 0.1) -> World:
+    """A size x size map with ``density`` random blocked cells, point robots on distinct free
+    cells of one connected area, and 1-cell moving blocks (half bounce8, half random-walk)
+    starting at least 3 cells from every robot."""
+    rng = np.random.default_rng(seed)
+    blocked = rng.random((size, size)) < density
+    free = np.argwhere(~blocked)
+    y, x = free[rng.integers(len(free))]
+    connected = np.argwhere(np.isfinite(distance_field(blocked, (int(x), int(y)))))[:, ::-1]  # (x, y)
+    pick = connected[rng.choice(len(connected), size=2 * n_robots + 4 * n_moving, replace=False)]
+    starts, goals, rest = pick[:n_robots], pick[n_robots:2 * n_robots], pick[2 * n_robots:]
+    robots = tuple(Robot(f"r{i}", tuple(starts[i] + 0.5), tuple(goals[i] + 0.5), 0.0, S2) for i in range(n_robots))
+    moving = []
+    headings = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)]
+    for c in rest:
+        if len(moving) == n_moving:
+            break
+        if np.min(np.max(np.abs(starts - c), axis=1)) < 3:
+            continue
+        k = len(moving)
+        motion = RandomWalk() if k % 2 else Bounce8()
+        moving.append(MovingObstacle(f"m{k}", Rect((-0.5, -0.5), (0.5, 0.5)), tuple(c + 0.5), headings[k % 4], motion))
+    return World(RectBounds(size, size), static_map=StaticMap(blocked, 1.0), moving_obstacles=tuple(moving),
+                 robots=robots, name=f"random64-{seed}")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(10))
+def test_100_robots_among_20_moving_obstacles_collision_free(seed) -> None:
+    """Moving obstacles never stop, so robots keep stepping off their goals to let them
+    pass: success counts robots that reached their goal within the budget; how many stand
+    on it at the last step is printed too."""
+    world = random_world(seed)
+    traj = Simulator(world, CatSwarmController(), PLANNERS.get("astar")().plan(world, rng=seed), seed=seed,
+                     max_steps=250).run()
+    assert validate_trajectory(world, traj) == []
+    at = np.linalg.norm(traj.positions - world.goals[None], axis=2) <= 1e-9
+    reached = at.any(axis=0).mean()
+    deadlocks = sorted({e["robot"] for e in traj.events if e["kind"] == "deadlock"})
+    print(f"\nrandom64 seed {seed}: collisions 0, reached {reached:.0%}, at goal at the end {at[-1].mean():.0%}, "
+          f"robots reported in deadlock {len(deadlocks)}")
+    assert reached >= 0.95
+
+
+# ---------------------------------------------------------------------------- MovingAI
+def test_movingai_random_32_32_10_with_50_agents() -> None:
+    world = world_from_movingai(DATA / "random-32-32-10.map", DATA / "random-32-32-10-random-1.scen", 50)
+    grid = world.grid()
+    optimal = sum(astar(grid, grid.cell_of(r.start), grid.cell_of(r.goal)).cost for r in world.robots)
+    for planner in ("astar", "none"):
+        result = run_world(world, planner=planner, controller="cat-swarm", seed=0)
+        assert validate_trajectory(world, result.trajectory) == []
+        assert result.summary["success"]
+        ratio = result.summary["sum_of_lengths"] / optimal
+        print(f"\nrandom-32-32-10, 50 agents, planner {planner}: success, collisions 0, "
+              f"sum of lengths / sum of optimal octile lengths = {ratio:.3f}, makespan {result.summary['makespan']}")
+        assert ratio <= 1.3
+
+
+# ---------------------------------------------------------------------------- determinism and conformance
+def trajectory_hash(traj) -> str:
+    h = hashlib.sha256(np.ascontiguousarray(traj.positions).tobytes())
+    h.update(np.ascontiguousarray(traj.obstacle_positions).tobytes())
+    if traj.modes is not None:
+        h.update(np.ascontiguousarray(traj.modes).tobytes())
+    return h.hexdigest()
+
+
+def test_same_seed_same_trajectory() -> None:
+    world = random_world(3, n_robots=40, n_moving=8, size=32)
+    plan = PLANNERS.get("astar")().plan(world, rng=0)
+    runs = [Simulator(world, CatSwarmController(), plan, seed=s, max_steps=80).run() for s in (5, 5, 6)]
+    assert trajectory_hash(runs[0]) == trajectory_hash(runs[1])
+    assert trajectory_hash(runs[0]) != trajectory_hash(runs[2])  # the seed matters (obstacles, ties)
+
+
+def test_check_controller_passes_for_cat_swarm() -> None:
+    assert check_controller(CatSwarmController) == []
