@@ -129,3 +129,16 @@ def test_same_seed_same_trajectory() -> None:
 
 def test_check_controller_passes_for_cat_swarm() -> None:
     assert check_controller(CatSwarmController) == []
+
+
+def test_reproduce_jaleel2016_writes_the_table_and_figures(tmp_path) -> None:
+    from swarmpath.registry import REPRODUCTIONS
+
+    calls = []
+    report = REPRODUCTIONS.get("jaleel2016")(tmp_path, runs=2, progress=lambda d, t: calls.append((d, t)))
+    text = report.read_text()
+    assert "## Table 1 in kind (2 runs)" in text and "| R12 |" in text
+    assert "collision-free runs (robot-robot, robot-static, robot-moving) | 1/1 (claimed) | 2/2 |" in text
+    for png in ("jaleel2016-paths-before-after.png", "jaleel2016-behaviours.png", "jaleel2016-length-change.png"):
+        assert (tmp_path / png).stat().st_size > 10_000
+    assert calls[-1][0] == calls[-1][1]
