@@ -301,6 +301,17 @@ def test_robots_too_slow_for_one_cell_a_step_are_reported() -> None:
         CatSwarmController().reset(world, None, np.random.default_rng(0))
 
 
+def test_disc_robots_wider_than_a_cell_are_refused_and_small_discs_never_touch() -> None:
+    big = World(RectBounds(6, 6), robots=(Robot("a", (1.0, 1.0), (4.0, 4.0), 0.6, S2),), name="disc")
+    with pytest.raises(ConfigError, match="radius"):
+        CatSwarmController().reset(big, None, np.random.default_rng(0))
+    robots = tuple(Robot(r.id, r.start, r.goal, 0.5, S2) for r in crossing_world().robots)
+    world = World(RectBounds(7, 7), robots=robots, name="discs")
+    for seed in range(3):
+        traj = Simulator(world, CatSwarmController(), None, seed=seed, max_steps=150).run()
+        assert validate_trajectory(world, traj) == []  # half-cell discs: held back, never touching
+
+
 def crossing_world() -> World:
     """Eight robots crossing a 7x7 room through its centre: everyone meets everyone."""
     robots = []

@@ -124,13 +124,18 @@ class CatSwarmController(Controller):
         if len(slow):
             raise ConfigError(f"cat-swarm moves one grid cell per step: robot {world.robots[slow[0]].id!r} "
                               f"has max_speed * dt = {self.reach_[slow[0]]:g} < resolution {res:g}")
+        big = np.flatnonzero(world.radii > res / 2 + 1e-12)
+        if len(big):
+            raise ConfigError(f"cat-swarm moves point robots cell to cell (the paper's robots are points): robot "
+                              f"{world.robots[big[0]].id!r} has radius {world.radii[big[0]]:g} > half a cell "
+                              f"({res / 2:g}); use a finer resolution or a continuous controller (pso-predictive)")
         grid = world.grid(radius=float(world.radii.max(initial=0.0)))
         self.grid_ = grid
         blocked = grid.blocked
         self.height_, self.width_ = blocked.shape
         self.moves_ = K.move_table(blocked)
         goals = world.goals
-        self.goal_cells_ = grid.cell_of(goals).reshape(-1, 2)
+        self.goal_cells_ = self._cells(goals)
         # one distance field per goal cell (eq. 12 and the replanned paths)
         flat_goal = self.goal_cells_[:, 1] * self.width_ + self.goal_cells_[:, 0] if n else np.zeros(0, np.int64)
         unique, self.field_index_ = np.unique(flat_goal, return_inverse=True)
@@ -147,7 +152,7 @@ class CatSwarmController(Controller):
         paths = plan.paths if plan is not None else [None] * n
         chunks, rems, starts, lengths = [], [], np.zeros(n, np.int64), np.zeros(n, np.int64)
         total = 0
-        start_cells = grid.cell_of(world.starts).reshape(-1, 2)
+        start_cells = self._cells(world.starts)
         for i in range(n):
             p = paths[i] if i < len(paths) else None
             cells = plan_cells(p, res, blocked) if p is not None else None
@@ -176,9 +181,16 @@ class CatSwarmController(Controller):
         self.tiebreak_ = rng.random(n)
         self.rng_ = rng
         self.monitor_ = DeadlockMonitor.start(n, patience=self.patience, report_after=self.report_after)
-        self.forecast_ = ObstacleForecast(world, grid)
+        self.radii_ = world.radii
+        self.forecast_ = ObstacleForecast(world, grid, float(self.radii_.max(initial=0.0)))
 
     # ------------------------------------------------------------------ helpers
+    def _cells(self, points: FloatArray) -> NDArray[np.int64]:
+        """Grid cells (n, 2) of points; a point on the far edge of the grid (a goal on the
+        workspace boundary) belongs to the last cell, whose closed square holds it."""
+        cells = self.grid_.cell_of(np.asarray(points, float).reshape(-1, 2))
+        return np.clip(cells, 0, [self.width_ - 1, self.height_ - 1])
+
     def _path_index(self, ahead: int = 0) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
         """Index into the concatenated paths of each robot's path cell ``ahead`` of its
         current one, and whether that cell exists (robots off their path: False)."""
@@ -246,7 +258,7 @@ class CatSwarmController(Controller):
         goals = obs.goals
         at_goal = obs.at_goal
         active = ~at_goal
-        cells = grid.cell_of(pos)
+        cells = self._cells(pos)
         cx, cy = cells[:, 0], cells[:, 1]
         fi = self.field_index_
         # --- candidates (step 6.1-6.3): 9 cells per robot, their targets and deletions
@@ -406,37 +418,45 @@ class CatSwarmController(Controller):
         return Decision(new, modes.tolist(), events)
 
     def _verified(self, pos: FloatArray, new: FloatArray, cells, order) -> tuple[FloatArray, NDArray]:
-        """Exact robot-robot check of the chosen moves (same rules as the simulator's
-        checker) where cell reasoning does not cover them: moves that start or end off a
-        cell centre (an exact start or goal on a cell corner, say). A robot in a contact is
-        held in place, lower priority first, and the robots around it are checked again.
-        Returns (positions, held mask)."""
+        """Exact robot-robot check of the chosen moves (the rules of the simulator's checker)
+        where cell reasoning does not cover them: moves that start or end off a cell centre
+        (an exact start or goal on a cell corner, say), and every move of disc robots (cells
+        only separate points). A robot in a contact is held in place, lower priority first,
+        and the robots around it are checked again. Returns (positions, held mask)."""
         n = len(pos)
         grid = self.grid_
         held = np.zeros(n, bool)
-        new_cells = grid.cell_of(new)
+        radii = self.radii_
+        discs = bool(np.any(radii > 0))
+        c0 = np.floor(pos / grid.resolution + 1e-9).astype(np.int64)  # the checker's cells
+        c1 = np.floor(new / grid.resolution + 1e-9).astype(np.int64)
         special = (np.linalg.norm(pos - grid.centers(cells), axis=1) > 1e-9) | \
-            (np.linalg.norm(new - grid.centers(new_cells), axis=1) > 1e-9)
+            (np.linalg.norm(new - grid.centers(c1), axis=1) > 1e-9)
+        if discs:
+            special[:] = True
         if not special.any() or n < 2:
             return new, held
         rank = np.empty(n, np.int64)
         rank[order] = np.arange(n)
         out = new.copy()
         tree = cKDTree(pos)
+        reach = 4.3 * self.world_.resolution + 2 * float(radii.max(initial=0.0))
         check = special
         for _ in range(n + 1):
             idx = np.flatnonzero(check)
             if len(idx) == 0:
                 break
-            near = tree.query_ball_point(pos[idx], 4.3 * self.world_.resolution)
+            near = tree.query_ball_point(pos[idx], reach)
             i = np.repeat(idx, [len(v) for v in near])
             j = np.fromiter((x for v in near for x in v), np.int64, count=len(i))
             keep = i != j
             i, j = i[keep], j[keep]
-            c1 = grid.cell_of(out)
-            same = np.all(c1[i] == c1[j], axis=1)
-            swap = np.all(c1[i] == cells[j], axis=1) & np.all(c1[j] == cells[i], axis=1)
-            touch = geo.relative_min_distance(pos[i], out[i], pos[j], out[j]) < 1e-7
+            c1 = np.floor(out / grid.resolution + 1e-9).astype(np.int64)
+            points = (radii[i] == 0) & (radii[j] == 0)
+            same = points & np.all(c1[i] == c1[j], axis=1)
+            swap = points & np.all(c1[i] == c0[j], axis=1) & np.all(c1[j] == c0[i], axis=1)
+            gap = geo.relative_min_distance(pos[i], out[i], pos[j], out[j])
+            touch = np.where(points, gap < 1e-7, gap < radii[i] + radii[j] - geo.EPS)
             bad = np.flatnonzero(same | swap | touch)
             check = np.zeros(n, bool)
             for k in bad:

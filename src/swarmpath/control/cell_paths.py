@@ -29,9 +29,10 @@ def _move_ok(blocked: NDArray[np.bool_], a: IntArray, b: IntArray) -> bool:
     return True
 
 
-def polyline_cells(points: NDArray[np.float64], resolution: float) -> IntArray:
+def polyline_cells(points: NDArray[np.float64], resolution: float, shape: tuple[int, int] | None = None) -> IntArray:
     """Cells visited by a polyline (n_points, 2), in order, without repeats in a row;
-    consecutive cells are 8-neighbours (the polyline is sampled finely and gaps filled)."""
+    consecutive cells are 8-neighbours (the polyline is sampled finely and gaps filled).
+    With ``shape`` (height, width), points on the grid's far edge belong to the last cell."""
     pts = np.asarray(points, float).reshape(-1, 2)
     samples = [pts[:1]]
     for a, b in zip(pts[:-1], pts[1:]):
@@ -39,6 +40,8 @@ def polyline_cells(points: NDArray[np.float64], resolution: float) -> IntArray:
         t = np.linspace(0.0, 1.0, k + 1)[1:, None]
         samples.append(a + (b - a) * t)
     cells = np.floor(np.concatenate(samples) / resolution + 1e-9).astype(np.int64)
+    if shape is not None:
+        cells = np.clip(cells, 0, [shape[1] - 1, shape[0] - 1])
     keep = np.r_[True, np.any(cells[1:] != cells[:-1], axis=1)]
     cells = cells[keep]
     out = [cells[0]]
@@ -104,7 +107,7 @@ def plan_cells(path: NDArray[np.float64] | None, resolution: float, blocked: NDA
     """The cell sequence a grid robot follows for a planned polyline (None without one)."""
     if path is None or len(path) == 0:
         return None
-    cells = polyline_cells(path, resolution)
+    cells = polyline_cells(path, resolution, blocked.shape)
     repaired = repair_cells(cells, blocked)
     if repaired is None:
         return None

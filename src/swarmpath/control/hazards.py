@@ -89,7 +89,7 @@ class ObstacleForecast:
     """Predicts the moving obstacles of one world, step by step (created in a controller's
     ``reset``; holds no run state beyond a memo of exact static checks)."""
 
-    def __init__(self, world, grid):
+    def __init__(self, world, grid, robot_radius: float = 0.0):
         self.world = world
         obs = world.moving_obstacles
         self.m = len(obs)
@@ -98,6 +98,9 @@ class ObstacleForecast:
         boxes = [footprint_box(o) for o in obs]
         self.lo = np.array([b[0] for b in boxes], float).reshape(-1, 2)
         self.hi = np.array([b[1] for b in boxes], float).reshape(-1, 2)
+        # what robots must keep out of: the footprint grown by the robots' radius
+        self.keep_lo = self.lo - robot_radius
+        self.keep_hi = self.hi + robot_radius
         self.code = np.array([motion_code(o) for o in obs], np.int64)
         self.speed = np.array([o.speed for o in obs], float) * world.dt
         self.walk_step = np.array([(o.speed or world.resolution) for o in obs], float) * world.dt
@@ -215,8 +218,8 @@ class ObstacleForecast:
         cand, possible, extra = self.next_positions(p, previous)
         j, s = np.nonzero(possible)
         q = cand[j, s]
-        lo = np.minimum(p[j], q) + self.lo[j] - extra[j, None]
-        hi = np.maximum(p[j], q) + self.hi[j] + extra[j, None]
+        lo = np.minimum(p[j], q) + self.keep_lo[j] - extra[j, None]
+        hi = np.maximum(p[j], q) + self.keep_hi[j] + extra[j, None]
         return paint(self.shape, box_cell_ranges(lo, hi, self.resolution, margin))
 
     def coverage(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
@@ -247,8 +250,8 @@ class ObstacleForecast:
             grow = np.where(sure, 0.0, (k - free) * reach)[:, None]
             a = np.where(sure[:, None], p + (k - 1) * d, p + free[:, None] * d)
             b = np.where(sure[:, None], p + k * d, a)
-            lo = np.minimum(a, b) + self.lo - grow
-            hi = np.maximum(a, b) + self.hi + grow
+            lo = np.minimum(a, b) + self.keep_lo - grow
+            hi = np.maximum(a, b) + self.keep_hi + grow
             out.append(paint(self.shape, box_cell_ranges(lo, hi, self.resolution, margin)))
         return out
 
@@ -257,14 +260,15 @@ class ObstacleForecast:
         the next ``steps`` steps can reach; robots farther away need no forecast."""
         if self.m == 0:
             return 0.0
-        extent = float(np.max(np.abs(np.concatenate([self.lo, self.hi]))))
+        extent = float(np.max(np.abs(np.concatenate([self.keep_lo, self.keep_hi]))))
         fastest = float(np.max(np.maximum(self.speed, self.walk_step), initial=0.0))
         return extent + (steps + 1) * fastest
 
     def crossings(self, starts: FloatArray, ends: FloatArray, positions: FloatArray) -> BoolArray:
         """Whether each move starts[r] -> ends[r, c] (shapes (k, 2) and (k, c, 2)) passes
-        through the interior of an obstacle's bounding box where it stands now (exact; used
-        for robots whose cell an obstacle already covers or that rest off a cell centre)."""
+        through the interior of an obstacle's bounding box (grown by the robots' radius)
+        where it stands now (exact for point robots; used for robots whose cell an obstacle
+        already covers or that rest off a cell centre)."""
         from swarmpath.world.geometry import segment_crosses_open_box
 
         k, c = ends.shape[:2]
@@ -272,12 +276,13 @@ class ObstacleForecast:
         if self.m == 0 or k == 0:
             return bad
         p = np.asarray(positions, float).reshape(self.m, 2)
-        reach = np.max(np.abs(np.concatenate([self.lo, self.hi])), initial=0.0) + 2 * self.resolution * 1.5
+        reach = np.max(np.abs(np.concatenate([self.keep_lo, self.keep_hi])), initial=0.0) + 2 * self.resolution * 1.5
         for j in range(self.m):
             near = np.flatnonzero(np.max(np.abs(starts - p[j]), axis=1) <= reach)
             if len(near) == 0:
                 continue
             a = np.repeat(starts[near], c, axis=0)
             b = ends[near].reshape(-1, 2)
-            bad[near] |= segment_crosses_open_box(a, b, p[j] + self.lo[j], p[j] + self.hi[j]).reshape(len(near), c)
+            lo, hi = p[j] + self.keep_lo[j], p[j] + self.keep_hi[j]
+            bad[near] |= segment_crosses_open_box(a, b, lo, hi).reshape(len(near), c)
         return bad
