@@ -22,7 +22,10 @@ def test_progress_update_counts_steps_without_improvement() -> None:
     best, since = progress_update(best, since, np.array([9.0, 5.0, 4.0]), np.array([False, False, False]))
     assert best.tolist() == [9.0, 5.0, 3.0] and since.tolist() == [0, 5, 3]
     best, since = progress_update(best, since, np.array([9.0, 0.0, 4.0]), np.array([False, True, False]))
-    assert best.tolist() == [9.0, 0.0, 3.0] and since.tolist() == [1, 0, 4]
+    assert best.tolist() == [9.0, np.inf, 3.0] and since.tolist() == [1, 0, 4]
+    # robot 1, pushed off its goal, counts from where it lands
+    best, since = progress_update(best, since, np.array([9.0, 1.0, 4.0]), np.array([False, False, False]))
+    assert best.tolist() == [9.0, 1.0, 3.0] and since.tolist() == [2, 0, 5]
 
 
 def test_monitor_marks_stuck_robots_urgent_and_reports_once() -> None:
