@@ -8,7 +8,13 @@ import pytest
 
 from swarmpath.control import cat_swarm_kernels as K
 from swarmpath.control.cat_swarm import CatSwarmController
-from swarmpath.control.cell_paths import plan_cells, polyline_cells, remaining_lengths, repair_cells, tidy_cells
+from swarmpath.control.cell_paths import (
+    plan_cells,
+    polyline_cells,
+    remaining_lengths,
+    repair_cells,
+    tidy_cells,
+)
 from swarmpath.control.hazards import ObstacleForecast, box_cell_ranges, paint
 from swarmpath.control.reservation import reserve_moves
 from swarmpath.errors import ConfigError
@@ -183,7 +189,7 @@ def test_reservation_refuses_crossing_diagonals_and_shared_cells() -> None:
     ne, nw = idx((1, 1)), idx((-1, 1))
     choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[ne, 0], [nw, 0]], [[], []], [False, False])
     assert choice == [ne, 0]  # robot 1 would cross robot 0's diagonal
-    up, upleft = idx((0, 1)), idx((-1, 1))
+    upleft = idx((-1, 1))
     cells = [(1, 1), (3, 1)]
     cand, blocks = lists(cells)
     cur = [flat(*c) for c in cells]

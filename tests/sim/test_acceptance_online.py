@@ -14,8 +14,17 @@ from swarmpath.registry import PLANNERS
 from swarmpath.search import astar, distance_field
 from swarmpath.sim import Simulator, run_world
 from swarmpath.testing import check_controller, validate_trajectory
-from swarmpath.world import (Bounce8, RandomWalk, Rect, RectBounds, Robot, StaticMap, World, load_scenario,
-                             world_from_movingai)
+from swarmpath.world import (
+    Bounce8,
+    RandomWalk,
+    Rect,
+    RectBounds,
+    Robot,
+    StaticMap,
+    World,
+    load_scenario,
+    world_from_movingai,
+)
 from swarmpath.world.moving import MovingObstacle
 
 DATA = Path(__file__).resolve().parents[1] / "data"

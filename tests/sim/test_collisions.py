@@ -6,8 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmpath.sim.collisions import (ROBOT_MOVING, ROBOT_ROBOT, ROBOT_STATIC, robot_robot_contacts,
-                                      step_contacts)
+from swarmpath.sim.collisions import (
+    ROBOT_MOVING,
+    ROBOT_ROBOT,
+    ROBOT_STATIC,
+    robot_robot_contacts,
+    step_contacts,
+)
 from swarmpath.sim.trajectory import Trajectory
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import Bounce, Rect, RectBounds, Robot, StaticMap, World

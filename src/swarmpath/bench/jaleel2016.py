@@ -19,9 +19,9 @@ It writes DIR/report.md and PNG files. Same seed, same numbers (times aside).
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -135,8 +135,14 @@ def figure_paths(world: World, traj: Trajectory, plan: Plan, path: Path) -> Path
 def figure_modes(traj: Trajectory, path: Path) -> Path:
     """Snapshots of one run; each robot's marker coloured by its behaviour at that step."""
     from swarmpath.viz import style
-    from swarmpath.viz.world_plot import draw_moving, draw_paths, draw_static, executed_paths, setup_world_axes, \
-        world_view
+    from swarmpath.viz.world_plot import (
+        draw_moving,
+        draw_paths,
+        draw_static,
+        executed_paths,
+        setup_world_axes,
+        world_view,
+    )
 
     view = world_view(traj)
     names = traj.mode_names
@@ -244,7 +250,7 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
     lines = [
         "# Jaleel & Hassan 2016: hybrid APF offline + modified cat swarm online — reproduction",
         "",
-        f"World `jaleel2016` (12 point robots of the paper's Table 1, circular workspace centre (15, 15)",
+        "World `jaleel2016` (12 point robots of the paper's Table 1, circular workspace centre (15, 15)",
         f"radius 15, our obstacle layout, 3 moving 0.5 x 0.5 blocks, grid resolution {res:g}); offline",
         f"planner `{planner}`, online controller `cat-swarm` (MR = 0.4, SMP = 8, SRD = 1 cell, CDC = 2,",
         f"SPC); seeds {seed}..{seed + n_runs - 1} (the seed drives the obstacles' bounces and the",
@@ -258,8 +264,8 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
         "a finer grid of its own, so only the changes (after - before) compare. Executed: mean",
         "[min-max] over the runs. Seek: mean robot-steps in seek mode per run.",
         "",
-        "| robot | start | goal | offline | offline (cells) | executed | executed (cells) | change (cells) "
-        "| seek steps | paper before | paper after | paper change |",
+        ("| robot | start | goal | offline | offline (cells) | executed | executed (cells) | change (cells) "
+         "| seek steps | paper before | paper after | paper change |"),
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for i, r in enumerate(world.robots):
@@ -273,13 +279,13 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
     paper_before = sum(v[2] for v in PAPER_TABLE1.values())
     paper_after = sum(v[3] for v in PAPER_TABLE1.values())
     lines += [
-        f"| all | | | {_f(offline.sum())} | {_f(offline.sum() / res, 1)} | {_f(online.lengths.sum(axis=1).mean())} | "
-        f"{_f(online.lengths.sum(axis=1).mean() / res, 1)} | "
-        f"{_f((online.lengths.sum(axis=1).mean() - offline.sum()) / res, 1)} | {_f(seek_total.mean(), 1)} | "
-        f"{paper_before} | {paper_after} | {paper_after - paper_before:+d} |",
+        (f"| all | | | {_f(offline.sum())} | {_f(offline.sum() / res, 1)} | {_f(online.lengths.sum(axis=1).mean())} | "
+         f"{_f(online.lengths.sum(axis=1).mean() / res, 1)} | "
+         f"{_f((online.lengths.sum(axis=1).mean() - offline.sum()) / res, 1)} | {_f(seek_total.mean(), 1)} | "
+         f"{paper_before} | {paper_after} | {paper_after - paper_before:+d} |"),
         "",
-        f"Executed / offline length, all robots: {_f(online.lengths.sum(axis=1).mean() / offline.sum(), 3)} "
-        f"(paper {paper_after / paper_before:.3f}).",
+        (f"Executed / offline length, all robots: {_f(online.lengths.sum(axis=1).mean() / offline.sum(), 3)} "
+         f"(paper {paper_after / paper_before:.3f})."),
         "",
         f"![paths]({files['paths'].name})",
         "",
@@ -291,15 +297,15 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
         "|---|---|---|",
         f"| runs where every robot reached its goal | 1/1 | {all_arrived}/{n_runs} |",
         f"| collision-free runs (robot-robot, robot-static, robot-moving) | 1/1 (claimed) | {collision_free}/{n_runs} |",
-        f"| steps until all arrived | - | {int(online.steps.min())}-{int(online.steps.max())} "
-        f"(median {np.median(online.steps):.0f}) |",
-        f"| offline planning time, 12 robots | {PAPER_OFFLINE_S:.3f} s (MATLAB) | "
-        f"{plan_times[0]:.3f} s first call, {np.median(plan_times[1:]):.3f} s median of 4 more |",
-        f"| time in seek mode | {PAPER_SEEK_S:.2f} s | {seek_total.mean():.0f} robot-steps per run "
-        f"({100 * online.mode_share.get('seek', 0.0):.1f}% of robot-steps); the whole controller "
-        f"{np.median(online.controller_s):.2f} s per run (median) |",
-        f"| the same plans without avoidance (`follow`, 3 runs): contacts | - | "
-        f"{int(follow.contacts.sum())} ({', '.join(f'{k} {v}' for k, v in sorted(follow.contact_kinds.items()))}) |",
+        (f"| steps until all arrived | - | {int(online.steps.min())}-{int(online.steps.max())} "
+         f"(median {np.median(online.steps):.0f}) |"),
+        (f"| offline planning time, 12 robots | {PAPER_OFFLINE_S:.3f} s (MATLAB) | "
+         f"{plan_times[0]:.3f} s first call, {np.median(plan_times[1:]):.3f} s median of 4 more |"),
+        (f"| time in seek mode | {PAPER_SEEK_S:.2f} s | {seek_total.mean():.0f} robot-steps per run "
+         f"({100 * online.mode_share.get('seek', 0.0):.1f}% of robot-steps); the whole controller "
+         f"{np.median(online.controller_s):.2f} s per run (median) |"),
+        (f"| the same plans without avoidance (`follow`, 3 runs): contacts | - | "
+         f"{int(follow.contacts.sum())} ({', '.join(f'{k} {v}' for k, v in sorted(follow.contact_kinds.items()))}) |"),
         "",
         "Behaviour shares over all runs (% of robot-steps): "
         + ", ".join(f"{k} {100 * v:.1f}" for k, v in online.mode_share.items()) + ".",

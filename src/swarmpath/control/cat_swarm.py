@@ -248,89 +248,127 @@ class CatSwarmController(Controller):
 
     # ------------------------------------------------------------------ act
     def act(self, obs) -> Decision:
-        world = self.world_
-        grid = self.grid_
         n = obs.n_robots
         if n == 0:
             return Decision(obs.positions.copy(), [])
-        W, H = self.width_, self.height_
-        pos = obs.positions
-        goals = obs.goals
-        at_goal = obs.at_goal
+        pos, goals, at_goal = obs.positions, obs.goals, obs.at_goal
         active = ~at_goal
         cells = self._cells(pos)
-        cx, cy = cells[:, 0], cells[:, 1]
-        fi = self.field_index_
-        # --- candidates (step 6.1-6.3): 9 cells per robot, their targets and deletions
-        copies = K.seek_copies(cells, srd=self.seeking_range, spc=self.keep_present)
-        path_fitness = K.fitness_eq12(self.fields_, fi, copies)
-        field_here = path_fitness[:, K.STAY]
-        remaining = self._remaining(cells, field_here)
+        # step 6.1-6.2: the seeking memory pool, 9 candidate cells per robot, and eq. 12
+        copies = K.seek_copies(cells, srd=self.seeking_range)
+        path_fitness = K.fitness_eq12(self.fields_, self.field_index_, copies)
+        remaining = self._remaining(cells, path_fitness[:, K.STAY])
         events = self.monitor_.update(obs.step, remaining, at_goal)
-        static_ok = self.moves_[cy, cx]
+        targets, in_goal_cell, static_ok, valid = self._candidates(pos, goals, cells, copies)
+        # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)
+        rules = self._obstacle_rules(obs, cells, copies, targets, in_goal_cell, static_ok, valid, active)
+        valid, in_danger, threatened, options, safety, hazard = rules
+        # step 6.4-6.5: rank the surviving copies (eq. 12, the warning term, eq. 13)
+        tie = K.tie_break_eq13(targets, goals)
+        fitness = path_fitness if hazard is None else path_fitness + self.hazard_weight * hazard
+        ranked = K.rank_copies(fitness, tie, valid, decimals=self.decimals_, safety=safety)
+        full = np.where(np.take_along_axis(valid, ranked, axis=1), ranked, -1)
+        # steps 1-5: collision detection, mixture split, trace robots seeing obstacles seek
+        seek, trace = self._behaviours(obs, active, remaining)
+        urgent = self.monitor_.urgent & active
+        # each robot's own preference list and where it goes when it must yield
+        path_next = self._path_next(cells, path_fitness, static_ok, tie)
+        own, no_stay = self._preferences(full, valid, safety, path_next, seek, urgent, in_danger, threatened,
+                                         active, at_goal, np.isfinite(path_fitness[:, K.STAY]))
+        # joint choice in priority order (deadlock.py, reservation.py), then the exact check
+        order = priority_order(self.monitor_.urgent_since, in_danger, threatened, options, active, remaining,
+                               self.tiebreak_)
+        choice, yielded = self._joint_choice(cells, copies, static_ok, own, no_stay, order,
+                                             urgent | in_danger | threatened)
+        new, held = self._verified(pos, targets[np.arange(n), choice], cells, order)
+        choice[held] = K.STAY
+        self._advance_paths(cells + K.OFFSETS[choice])  # step 6.6: leaving the path = replanning
+        for i in np.flatnonzero(held):
+            events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
+        modes = np.where(at_goal, "arrived", "follow").astype(object)
+        modes[trace] = "trace"
+        modes[trace & (choice == K.STAY)] = "wait"
+        modes[seek & active] = "seek"
+        modes[urgent & ~seek] = "resolve"
+        modes[yielded] = "yield"
+        modes[threatened & ~seek & ~yielded] = "evade"
+        modes[in_danger] = "escape"
+        return Decision(new, modes.tolist(), events)
+
+    def _candidates(self, pos, goals, cells, copies):
+        """Where each candidate takes the robot (n, 9, 2): a cell centre, the exact goal in the
+        goal cell; staying settles on the centre (or the goal) of the robot's own cell. Also
+        which candidates are the goal cell, and which are allowed statically and in reach."""
+        grid = self.grid_
+        static_ok = self.moves_[cells[:, 1], cells[:, 0]]
         targets = grid.centers(copies)
         in_goal_cell = np.all(copies == self.goal_cells_[:, None, :], axis=2)
         targets = np.where(in_goal_cell[..., None], goals[:, None, :], targets)
         targets[:, K.STAY] = np.where(in_goal_cell[:, K.STAY, None], goals, grid.centers(cells))
-        reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9) + 1e-12
-        valid = static_ok & reach
-        valid[:, K.STAY] = True  # staying (or settling inside one's own cell) is always a move
-        threatened = np.zeros(n, bool)
-        in_danger = np.zeros(n, bool)
-        options = np.full(n, 9)
-        safety = hazard = None
+        in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9) + 1e-12
+        valid = static_ok & in_reach
+        valid[:, K.STAY] = True  # staying (or settling inside one's own cell) is always possible
+        return targets, in_goal_cell, static_ok, valid
+
+    def _obstacle_rules(self, obs, cells, copies, targets, in_goal_cell, static_ok, valid, active):
+        """Step 6.3 for moving obstacles plus our look-ahead (see the module docs). Returns
+        (valid (n, 9), in danger (n,), threatened (n,), options (n,), safety (n, 9) or None,
+        warning (n, 9) or None)."""
+        n = len(cells)
+        none = np.zeros(n, bool)
         fc = self.forecast_
         steps = max(self.lookahead, self.hazard_horizon)
-        reach_o = fc.influence(steps) + 2 * world.resolution
-        near_o = fc.m > 0 and bool(np.any(np.max(np.abs(pos[:, None, :] - obs.obstacle_positions[None]), axis=2)
-                                          <= reach_o))
-        if near_o:
-            covered = fc.coverage(obs.obstacle_positions, obs.obstacle_previous, steps, margin=self.margin)
-            xs = np.clip(copies[..., 0], 0, W - 1)
-            ys = np.clip(copies[..., 1], 0, H - 1)
-            valid &= ~covered[0][ys, xs]  # never where an obstacle may be next step
-            in_danger = covered[0][cy, cx]
-            off_centre = np.linalg.norm(pos - grid.centers(cells), axis=1) > 1e-9
-            check = np.flatnonzero(in_danger | off_centre)
-            if len(check):
-                valid[check] &= ~fc.crossings(pos[check], targets[check], obs.obstacle_positions)
-            # look-ahead: keep to the most cautious tier that leaves the robot some choice
-            undecided = np.ones(n, bool)
-            base = valid
-            # the tiers assume a robot at a cell centre; one that ends the step on its exact goal
-            # off the centre (a cell corner, say) can reach fewer cells next step
-            odd, odd_k = np.nonzero(in_goal_cell & self.goal_off_centre_[:, None])
+        pos, obstacles = obs.positions, obs.obstacle_positions
+        if fc.m == 0 or not np.any(np.max(np.abs(pos[:, None, :] - obstacles[None]), axis=2)
+                                   <= fc.influence(steps) + 2 * self.world_.resolution):
+            return valid, none, none, np.full(n, 9), None, None  # no obstacle can matter this step
+        W, H = self.width_, self.height_
+        cx, cy = cells[:, 0], cells[:, 1]
+        covered = fc.coverage(obstacles, obs.obstacle_previous, steps, margin=self.margin)
+        xs = np.clip(copies[..., 0], 0, W - 1)
+        ys = np.clip(copies[..., 1], 0, H - 1)
+        valid = valid & ~covered[0][ys, xs]  # never where an obstacle may be next step
+        in_danger = covered[0][cy, cx]
+        off_centre = np.linalg.norm(pos - self.grid_.centers(cells), axis=1) > 1e-9
+        check = np.flatnonzero(in_danger | off_centre)
+        if len(check):
+            valid[check] &= ~fc.crossings(pos[check], targets[check], obstacles)
+        # look-ahead: keep to the most cautious tier that leaves the robot some choice
+        threatened = np.zeros(n, bool)
+        undecided = np.ones(n, bool)
+        base = valid
+        # the tiers assume a robot at a cell centre; one that ends the step on its exact goal
+        # off the centre (a cell corner, say) can reach fewer cells next step
+        odd, odd_k = np.nonzero(in_goal_cell & self.goal_off_centre_[:, None])
+        around = self.goal_cells_[odd][:, None, :] + K.OFFSETS[None]
+        around_x = np.clip(around[..., 0], 0, W - 1)
+        around_y = np.clip(around[..., 1], 0, H - 1)
+        for depth in range(self.lookahead, 1, -1):
+            tier, then = K.safe_tier(covered, self.moves_, depth)
+            strict = base & tier[ys, xs]
             if len(odd):
-                around = self.goal_cells_[odd][:, None, :] + K.OFFSETS[None]
-                around_x = np.clip(around[..., 0], 0, W - 1)
-                around_y = np.clip(around[..., 1], 0, H - 1)
-            for depth in range(self.lookahead, 1, -1):
-                tier, then = K.safe_tier(covered, self.moves_, depth)
-                strict = base & tier[ys, xs]
-                if len(odd):
-                    way_out = np.any(self.goal_moves_[odd] & then[around_y, around_x], axis=1)
-                    strict[odd, odd_k] = base[odd, odd_k] & ~covered[0][around_y[:, 0], around_x[:, 0]] & way_out
-                usable = strict.any(axis=1) & undecided
-                valid = np.where(usable[:, None], strict, valid)
-                threatened |= usable & ~strict[:, K.STAY]
-                undecided &= ~usable
-                if not undecided.any():
-                    break
-            # and, among those, prefer cells an obstacle cannot reach soon (leave early)
-            safety = np.where(valid, K.stay_depth(covered[:self.leave_early])[ys, xs], -1)
-            threatened |= safety.max(axis=1) > safety[:, K.STAY]
-            threatened &= ~in_danger
-            options = valid.sum(axis=1)
-            if self.hazard_horizon > 0 and self.hazard_weight > 0:
-                hazard = K.warning_levels(covered[:self.hazard_horizon], copies, self.hazard_decay)
+                way_out = np.any(self.goal_moves_[odd] & then[around_y, around_x], axis=1)
+                strict[odd, odd_k] = base[odd, odd_k] & ~covered[0][around_y[:, 0], around_x[:, 0]] & way_out
+            usable = strict.any(axis=1) & undecided
+            valid = np.where(usable[:, None], strict, valid)
+            threatened |= usable & ~strict[:, K.STAY]
+            undecided &= ~usable
+            if not undecided.any():
+                break
+        # and, among those, prefer cells an obstacle cannot reach soon (leave early)
+        safety = np.where(valid, K.stay_depth(covered[:self.leave_early])[ys, xs], -1)
+        threatened |= safety.max(axis=1) > safety[:, K.STAY]
+        threatened &= ~in_danger
+        warning = None
+        if self.hazard_horizon > 0 and self.hazard_weight > 0:
+            warning = K.warning_levels(covered[:self.hazard_horizon], copies, self.hazard_decay)
+        return valid, in_danger, threatened, valid.sum(axis=1), safety, warning
 
-        # --- fitness (eq. 12) with the early-warning term, ties by eq. 13
-        tie = K.tie_break_eq13(targets, goals)
-        fitness = path_fitness if hazard is None else path_fitness + self.hazard_weight * hazard
-        ranked = K.rank_copies(fitness, tie, valid, decimals=self.decimals_, safety=safety)
-        ranked_valid = np.take_along_axis(valid, ranked, axis=1)
-
-        # --- collision detection and the mixture split (eq. 10-11, Algorithm 4 steps 1-5)
+    def _behaviours(self, obs, active, remaining):
+        """Algorithm 4 steps 1-5: (seek, trace) flags (n,). Robots in conflict are grouped
+        (connected components of robot-robot conflicts); in each group the mixture ratio
+        gives seek to the longest remaining paths; moving obstacles make a robot seek."""
+        n = obs.n_robots
         edges, robot_conflict, obstacle_alert = self._conflicts(obs, active)
         conflict = robot_conflict | obstacle_alert
         seek = np.zeros(n, bool)
@@ -342,14 +380,17 @@ class CatSwarmController(Controller):
             graph = coo_matrix((np.ones(len(e)), (local[e[:, 0]], local[e[:, 1]])),
                                shape=(len(members), len(members)))
             _, labels = connected_components(graph, directed=False)
-            seek[members] = K.mixture_split(remaining[members], labels, self.mixture_ratio,
-                                            self.tiebreak_[members])
+            seek[members] = K.mixture_split(remaining[members], labels, self.mixture_ratio, self.tiebreak_[members])
         seek |= obstacle_alert  # trace robots that see a moving obstacle switch to seek
-        urgent = self.monitor_.urgent & active
-        trace = conflict & ~seek
+        return seek, conflict & ~seek
 
-        # --- each robot's own preference list (indices into its 9 candidates)
-        path_next = self._path_next(cells, path_fitness, static_ok, tie)
+    def _preferences(self, full, valid, safety, path_next, seek, urgent, in_danger, threatened, active, at_goal,
+                     reachable):
+        """Each robot's own preference list (n, 9) of candidate indices, -1 padded, and the
+        list it uses when it must yield (no staying). Followers and tracers: the next cell of
+        their path, else wait; seekers, urgent, endangered and threatened robots: every valid
+        copy from best to worst (``full``); parked robots stay."""
+        n = len(full)
         rows = np.arange(n)
         path_ok = valid[rows, path_next] & (path_next != K.STAY)
         if safety is not None:  # do not step where an obstacle may come sooner than here
@@ -359,63 +400,46 @@ class CatSwarmController(Controller):
         own[follow_like & path_ok, 0] = path_next[follow_like & path_ok]
         own[follow_like & path_ok, 1] = K.STAY
         own[follow_like & ~path_ok, 0] = K.STAY
-        parked = at_goal & ~in_danger & ~threatened
-        own[parked, 0] = K.STAY
+        own[at_goal & ~in_danger & ~threatened, 0] = K.STAY
         searching = (seek | urgent | in_danger | threatened) & active | (at_goal & (in_danger | threatened))
-        full = np.where(ranked_valid, ranked, -1)
         if not self.keep_present:  # without SPC the robot moves to the best surviving copy, else waits
             full = np.where(full == K.STAY, -1, full)
         own[searching] = full[searching]
-        walled_in = ~np.isfinite(field_here) & active  # no way to the goal: stay unless pushed
+        walled_in = ~reachable & active  # no way to the goal: stay unless pushed
         own[walled_in] = -1
         own[walled_in, 0] = K.STAY
-        no_stay = np.where(ranked == K.STAY, -1, full)
+        no_stay = np.where(full == K.STAY, -1, full)
         own[in_danger] = no_stay[in_danger]
+        return own, no_stay
 
-        # --- joint choice: isolated robots at once, the rest in priority order with yielding
-        order = priority_order(self.monitor_.urgent_since, in_danger, threatened, options, active, remaining,
-                               self.tiebreak_)
-        crowded = K.crowded(cells, (H, W))
+    def _joint_choice(self, cells, copies, static_ok, own, no_stay, order, can_push):
+        """One candidate index per robot (n,) and whether it was made to yield (n,): robots
+        with no other robot within two cells take their first preference at once, the others
+        go through :func:`reserve_moves` in ``order``."""
+        n = len(cells)
+        W = self.width_
         first = own[:, 0]
         choice = np.where(first >= 0, first, K.STAY)
         yielded = np.zeros(n, bool)
-        if crowded.any():
-            sub_order = order[crowded[order]]
-            flat_cells = np.where(static_ok | (np.arange(9) == K.STAY)[None],
-                                  copies[..., 1] * W + copies[..., 0], -1)
-            bx = copies[..., 0] - (K.OFFSETS[:, 0] > 0)[None]
-            by = copies[..., 1] - (K.OFFSETS[:, 1] > 0)[None]
-            blocks = np.where(K.DIAGONAL[None], (by + 1) * (W + 2) + (bx + 1), -1)
-            can_push = (urgent | in_danger | threatened).tolist()
-            fields, field_index = self.fields_, self.field_index_
+        crowded = K.crowded(cells, (self.height_, W))
+        if not crowded.any():
+            return choice, yielded
+        flat_cells = np.where(static_ok | (np.arange(9) == K.STAY)[None], copies[..., 1] * W + copies[..., 0], -1)
+        bx = copies[..., 0] - (K.OFFSETS[:, 0] > 0)[None]
+        by = copies[..., 1] - (K.OFFSETS[:, 1] > 0)[None]
+        blocks = np.where(K.DIAGONAL[None], (by + 1) * (W + 2) + (bx + 1), -1)
+        fields, field_index = self.fields_, self.field_index_
 
-            def distance(i: int, cell: int) -> float:
-                return float(fields[field_index[i]].flat[cell])
+        def distance(i: int, cell: int) -> float:
+            return float(fields[field_index[i]].flat[cell])
 
-            sub_choice, sub_yield = reserve_moves(sub_order.tolist(), (cy * W + cx).tolist(), flat_cells.tolist(),
-                                                  blocks.tolist(), own.tolist(), no_stay.tolist(), can_push,
-                                                  stay=K.STAY, distance=distance)
-            idx = np.flatnonzero(crowded)
-            choice[idx] = np.asarray(sub_choice)[idx]
-            yielded[idx] = np.asarray(sub_yield)[idx]
-        new = targets[rows, choice]
-        new, held = self._verified(pos, new, cells, order)
-        choice[held] = K.STAY
-        new_cells = cells + K.OFFSETS[choice]
-
-        # --- bookkeeping: path progress (a robot that leaves its path replans)
-        self._advance_paths(new_cells)
-        modes = np.where(at_goal, "arrived", "follow").astype(object)
-        modes[trace] = "trace"
-        modes[trace & (choice == K.STAY)] = "wait"
-        modes[seek & active] = "seek"
-        modes[urgent & ~seek] = "resolve"
-        modes[yielded] = "yield"
-        modes[threatened & ~seek & ~yielded] = "evade"
-        modes[in_danger] = "escape"
-        for i in np.flatnonzero(held):
-            events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
-        return Decision(new, modes.tolist(), events)
+        sub_choice, sub_yield = reserve_moves(order[crowded[order]].tolist(), (cells[:, 1] * W + cells[:, 0]).tolist(),
+                                              flat_cells.tolist(), blocks.tolist(), own.tolist(), no_stay.tolist(),
+                                              can_push.tolist(), stay=K.STAY, distance=distance)
+        idx = np.flatnonzero(crowded)
+        choice[idx] = np.asarray(sub_choice)[idx]
+        yielded[idx] = np.asarray(sub_yield)[idx]
+        return choice, yielded
 
     def _verified(self, pos: FloatArray, new: FloatArray, cells, order) -> tuple[FloatArray, NDArray]:
         """Exact robot-robot check of the chosen moves (the rules of the simulator's checker)

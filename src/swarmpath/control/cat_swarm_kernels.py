@@ -52,14 +52,13 @@ def mixture_split(remaining: FloatArray, groups: IntArray, mixture_ratio: float,
     return seek
 
 
-def seek_copies(cells: IntArray, *, srd: int = 1, spc: bool = True) -> IntArray:
+def seek_copies(cells: IntArray, *, srd: int = 1) -> IntArray:
     """Step 6.1-6.2 of Algorithm 4: the seeking memory pool. Every robot is copied SMP = 8
     times; each copy changes both coordinates (CDC = 2) by -SRD, 0 or +SRD cells (the eight
-    directions). With SPC the present position is kept as one more candidate (index 0).
+    directions). Slot 0 holds the present position, the candidate SPC adds (the controller
+    decides whether it may win).
 
-    cells : (n, 2) -> copies (n, 9, 2); without SPC index 0 still holds the present cell and
-    callers mask it out."""
-    del spc  # the present cell is always in slot 0; the flag only decides whether it may win
+    cells : (n, 2) -> copies (n, 9, 2)"""
     return cells[:, None, :] + OFFSETS[None] * srd
 
 

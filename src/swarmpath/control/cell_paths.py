@@ -8,6 +8,8 @@ either side.
 """
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -35,7 +37,7 @@ def polyline_cells(points: NDArray[np.float64], resolution: float, shape: tuple[
     With ``shape`` (height, width), points on the grid's far edge belong to the last cell."""
     pts = np.asarray(points, float).reshape(-1, 2)
     samples = [pts[:1]]
-    for a, b in zip(pts[:-1], pts[1:]):
+    for a, b in pairwise(pts):
         k = max(1, int(np.ceil(np.linalg.norm(b - a) / (resolution / 8))))
         t = np.linspace(0.0, 1.0, k + 1)[1:, None]
         samples.append(a + (b - a) * t)

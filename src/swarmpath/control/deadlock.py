@@ -68,7 +68,7 @@ class DeadlockMonitor:
     reported: BoolArray
 
     @classmethod
-    def start(cls, n_robots: int, *, patience: int, report_after: int) -> "DeadlockMonitor":
+    def start(cls, n_robots: int, *, patience: int, report_after: int) -> DeadlockMonitor:
         return cls(patience, report_after, np.full(n_robots, np.inf), np.zeros(n_robots, np.int64),
                    np.full(n_robots, NOT_URGENT, np.int64), np.zeros(n_robots, bool))
 

@@ -149,7 +149,7 @@ class ObstacleForecast:
         if len(unsure) == 0:
             return out
         shapes = self.shape_of[which[unsure]]
-        keys = [(int(j), int(round(x * 1e6)), int(round(y * 1e6)))
+        keys = [(int(j), round(x * 1e6), round(y * 1e6))
                 for j, (x, y) in zip(shapes.tolist(), pos[unsure].tolist())]
         todo: dict[int, list[int]] = {}
         for k, key in zip(unsure.tolist(), keys):
@@ -164,7 +164,7 @@ class ObstacleForecast:
             found = self.world.obstacle_fits(self.world.moving_obstacles[j], pos[rows])
             out[rows] = found
             for k, f in zip(rows, found.tolist()):
-                self._memo[(j, int(round(pos[k, 0] * 1e6)), int(round(pos[k, 1] * 1e6)))] = f
+                self._memo[(j, round(pos[k, 0] * 1e6), round(pos[k, 1] * 1e6))] = f
         return out
 
     # ------------------------------------------------------------------ next step

@@ -20,7 +20,7 @@ resolved at once (vectorised) by the caller; only the rest goes through this loo
 """
 from __future__ import annotations
 
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 MAX_DEPTH = 128
 OWN, ASK, PUSH = 0, 1, 2
