@@ -424,21 +424,25 @@ class CatSwarmController(Controller):
         crowded = K.crowded(cells, (self.height_, W))
         if not crowded.any():
             return choice, yielded
-        flat_cells = np.where(static_ok | (np.arange(9) == K.STAY)[None], copies[..., 1] * W + copies[..., 0], -1)
-        bx = copies[..., 0] - (K.OFFSETS[:, 0] > 0)[None]
-        by = copies[..., 1] - (K.OFFSETS[:, 1] > 0)[None]
+        idx = np.flatnonzero(crowded)  # work on the crowded robots only, renumbered 0..m-1
+        local = np.full(n, -1, np.int64)
+        local[idx] = np.arange(len(idx))
+        c = copies[idx]
+        flat_cells = np.where(static_ok[idx] | (np.arange(9) == K.STAY)[None], c[..., 1] * W + c[..., 0], -1)
+        bx = c[..., 0] - (K.OFFSETS[:, 0] > 0)[None]
+        by = c[..., 1] - (K.OFFSETS[:, 1] > 0)[None]
         blocks = np.where(K.DIAGONAL[None], (by + 1) * (W + 2) + (bx + 1), -1)
-        fields, field_index = self.fields_, self.field_index_
+        fields, field_index = self.fields_, self.field_index_[idx]
 
         def distance(i: int, cell: int) -> float:
             return float(fields[field_index[i]].flat[cell])
 
-        sub_choice, sub_yield = reserve_moves(order[crowded[order]].tolist(), (cells[:, 1] * W + cells[:, 0]).tolist(),
-                                              flat_cells.tolist(), blocks.tolist(), own.tolist(), no_stay.tolist(),
-                                              can_push.tolist(), stay=K.STAY, distance=distance)
-        idx = np.flatnonzero(crowded)
-        choice[idx] = np.asarray(sub_choice)[idx]
-        yielded[idx] = np.asarray(sub_yield)[idx]
+        sub_choice, sub_yield = reserve_moves(local[order[crowded[order]]].tolist(),
+                                              (cells[idx, 1] * W + cells[idx, 0]).tolist(), flat_cells.tolist(),
+                                              blocks.tolist(), own[idx].tolist(), no_stay[idx].tolist(),
+                                              can_push[idx].tolist(), stay=K.STAY, distance=distance)
+        choice[idx] = sub_choice
+        yielded[idx] = sub_yield
         return choice, yielded
 
     def _verified(self, pos: FloatArray, new: FloatArray, cells, order) -> tuple[FloatArray, NDArray]:
