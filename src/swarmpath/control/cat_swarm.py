@@ -56,7 +56,8 @@ FIELD_BYTES_FLOAT64 = 256 * 2 ** 20
 class CatSwarmController(Controller):
     """Modified cat swarm collision avoidance (Jaleel & Hassan 2016, Algorithm 4).
 
-    Parameters (paper values where the paper gives them):
+    Parameters (paper values where the paper gives them; docs/papers/jaleel-hassan-2016-online.md
+    explains each choice):
         mixture_ratio : MR of eq. 10-11 (0.4).
         seeking_range : SRD in cells (1: the 8 neighbours).
         keep_present : SPC, the present position is a candidate too (True).
@@ -78,9 +79,8 @@ class CatSwarmController(Controller):
 
     def __init__(self, mixture_ratio: float = 0.4, seeking_range: int = 1, keep_present: bool = True,
                  obstacle_alert: str = "long", margin: int = 0, lookahead: int = 5, leave_early: int = 2,
-                 hazard_horizon: int = 4,
-                 hazard_weight: float = 2.0, hazard_decay: float = 0.7, patience: int = 6,
-                 report_after: int = 40):
+                 hazard_horizon: int = 4, hazard_weight: float = 2.0, hazard_decay: float = 0.7,
+                 patience: int = 6, report_after: int = 40):
         self.mixture_ratio = mixture_ratio
         self.seeking_range = seeking_range
         self.keep_present = keep_present
