@@ -71,3 +71,10 @@ def test_circle_workspace_blocks_cells_outside() -> None:
     centres = g.centers(np.argwhere(g.free)[:, ::-1])
     assert np.all(np.linalg.norm(centres - 5, axis=1) <= 5 - 0.5)
     assert g.blocked[0, 0] and not g.blocked[5, 5]
+
+
+def test_points_on_the_far_edge_belong_to_the_last_cell() -> None:
+    g = World(RectBounds(10, 10), name="edge").grid(1.0)
+    assert g.cell_of([10.0, 10.0]).tolist() == [9, 9]
+    assert g.cell_of([[0.0, 10.0], [5.0, 5.0]]).tolist() == [[0, 9], [5, 5]]
+    assert g.cell_of([10.5, 3.0]).tolist() == [10, 3]  # outside stays outside

@@ -49,8 +49,14 @@ class OccupancyGrid:
         return ~self.blocked
 
     def cell_of(self, points: ArrayLike) -> IntArray:
-        """Cells containing points: int array (..., 2) of (x, y)."""
-        return np.floor(np.asarray(points, float) / self.resolution + 1e-9).astype(np.int64)
+        """Cells containing points: int array (..., 2) of (x, y). A point on the grid's far
+        edge (x = width or y = height in cells) belongs to the last cell, as a point on any
+        other cell border belongs to the cell above/right of it."""
+        scaled = np.asarray(points, float) / self.resolution
+        cells = np.floor(scaled + 1e-9).astype(np.int64)
+        extent = np.array([self.width, self.height])
+        on_far_edge = (cells == extent) & (np.abs(scaled - extent) < 1e-9)
+        return np.where(on_far_edge, extent - 1, cells)
 
     def centers(self, cells: ArrayLike) -> FloatArray:
         """World coordinates of cell centres, shape (..., 2)."""
