@@ -49,3 +49,10 @@ def waiting_steps(positions: ArrayLike, goals: ArrayLike) -> NDArray[np.int64]:
     still = np.all(p[1:] == p[:-1], axis=2)
     away = ~at_goal(p[:-1], goals)
     return np.count_nonzero(still & away, axis=0).astype(np.int64)
+
+
+def first_arrival_steps(positions: ArrayLike, goals: ArrayLike) -> list[int | None]:
+    """For each robot, the first step at which it stood on its goal (None if never). Among
+    moving obstacles a robot may have to step off its goal again; this says it got there."""
+    ok = at_goal(positions, goals)
+    return [int(np.argmax(col)) if col.any() else None for col in ok.T]

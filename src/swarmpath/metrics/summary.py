@@ -6,7 +6,7 @@ from typing import Any
 import numpy as np
 
 from swarmpath.metrics.clearance import min_clearance
-from swarmpath.metrics.paths import arrival_steps, executed_lengths, waiting_steps
+from swarmpath.metrics.paths import arrival_steps, executed_lengths, first_arrival_steps, waiting_steps
 from swarmpath.sim.collisions import ROBOT_MOVING, ROBOT_ROBOT, ROBOT_STATIC
 from swarmpath.sim.simulator import distinct_positions
 from swarmpath.sim.trajectory import Trajectory
@@ -39,13 +39,15 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
     arrivals = arrival_steps(traj.positions, traj.goals)
     waits = waiting_steps(traj.positions, traj.goals)
     reached = [a is not None for a in arrivals]
+    first = first_arrival_steps(traj.positions, traj.goals)
     robots = []
     for i, rid in enumerate(traj.robot_ids):
         planned = None
         if plan is not None and i < len(plan.robots):
             planned = plan.robots[i].length
         robots.append({"id": rid, "reached": reached[i], "path_length": float(lengths[i]),
-                       "planned_length": planned, "arrival_step": arrivals[i], "waits": int(waits[i])})
+                       "planned_length": planned, "arrival_step": arrivals[i], "first_arrival_step": first[i],
+                       "waits": int(waits[i])})
     success = all(reached)
     collisions = collisions_by_kind(traj)
     return {
@@ -54,7 +56,7 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
         "makespan": max((a for a in arrivals if a is not None), default=0) if success else None,
         "sum_of_lengths": float(lengths.sum()),
         "sum_of_arrival_steps": int(sum(a for a in arrivals if a is not None)) if success else None,
-        "reached": int(sum(reached)), "n_robots": len(reached),
+        "reached": int(sum(reached)), "reached_once": sum(f is not None for f in first), "n_robots": len(reached),
         "collisions": collisions, "deadlocks": len(deadlocked_robots(traj)),
         "invalid_moves": sum(1 for e in traj.events if e.get("kind") == "invalid_move"),
         "min_clearance": float(min_clearance(world, traj.positions, traj.obstacle_positions)) if clearance else None,
