@@ -56,7 +56,7 @@ FIELD_BYTES_FLOAT64 = 256 * 2 ** 20
 class CatSwarmController(Controller):
     """Modified cat swarm collision avoidance (Jaleel & Hassan 2016, Algorithm 4).
 
-    Parameters (paper values where the paper gives them; docs/papers/jaleel-hassan-2016-online.md
+    Parameters (paper values where the paper gives them; docs/papers/jaleel-hassan-2016.md (online phase)
     explains each choice):
         mixture_ratio : MR of eq. 10-11 (0.4).
         seeking_range : SRD in cells (1: the 8 neighbours).

@@ -1,6 +1,6 @@
 """The modified cat swarm of Jaleel & Hassan (2016, section III.2.C, Algorithm 4) as small pure
 functions over arrays. The controller (:mod:`swarmpath.control.cat_swarm`) wires them to the
-simulator; docs/papers/jaleel-hassan-2016-online.md explains every interpretation.
+simulator; docs/papers/jaleel-hassan-2016.md (online phase) explains every interpretation.
 
 Grid conventions: cells are (x, y) integer pairs, ``blocked[y, x]``; the 9 candidate offsets
 are ``OFFSETS`` (index 0 = the present position, then the 8 directions).
