@@ -55,6 +55,7 @@ def test_track_learns_the_turning_period_of_turn_every():
     state = initial_obstacle_state(world)
     track = pred.ObstacleTrack()
     exact = 0
+    prev_prev = None  # the positions two samples back, set from step 1 on
     for step in range(1, 36):
         new = advance_obstacles(world, state, rng)
         if step >= 2 and step % 10 != 0:

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from swarmpath.control.base import Controller, Decision
+from swarmpath.control.base import Controller
 from swarmpath.metrics.summary import run_summary
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator, Trajectory, run_world

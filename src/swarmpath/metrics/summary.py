@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 
 from swarmpath.metrics.clearance import min_clearance
 from swarmpath.metrics.paths import arrival_steps, executed_lengths, first_arrival_steps, waiting_steps

@@ -301,7 +301,6 @@ def read_scenario_file(path: str | Path) -> tuple[Any, str]:
 
 def builtin_scenarios() -> dict[str, str]:
     """Built-in scenario names and their one-line descriptions."""
-    import yaml
 
     out = {}
     for entry in sorted(resources.files("swarmpath.data.scenarios").iterdir(), key=lambda e: e.name):
