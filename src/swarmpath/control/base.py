@@ -6,6 +6,7 @@ never moves obstacles and never decides whether a collision happened: the simula
 """
 from __future__ import annotations
 
+import abc
 from dataclasses import dataclass, field
 from typing import ClassVar, Sequence
 
@@ -25,14 +26,16 @@ class Decision:
     events: Sequence[dict] = field(default_factory=tuple)
 
 
-class Controller:
+class Controller(abc.ABC):
     """Base class of controllers (register subclasses with ``@register_controller``)."""
 
     capabilities: ClassVar[Capabilities] = Capabilities()
     registered_name: ClassVar[str] = ""
 
-    def reset(self, world, plan, rng: np.random.Generator) -> None:  # pragma: no cover - interface
-        raise NotImplementedError
+    @abc.abstractmethod
+    def reset(self, world, plan, rng: np.random.Generator) -> None:
+        """Prepare a run of ``world`` with the offline ``plan`` (None without a planner)."""
 
-    def act(self, observation) -> "Decision | NDArray[np.float64]":  # pragma: no cover - interface
-        raise NotImplementedError
+    @abc.abstractmethod
+    def act(self, observation) -> "Decision | NDArray[np.float64]":
+        """Next positions of all robots, shape (n_robots, 2), or a :class:`Decision`."""

@@ -5,6 +5,7 @@ A planner is configured by its constructor (hyperparameters only) and run by
 """
 from __future__ import annotations
 
+import abc
 import enum
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Mapping
@@ -82,11 +83,12 @@ class Capabilities:
     multi_objective: bool = False     # planners: optimises several objectives
 
 
-class Planner:
+class Planner(abc.ABC):
     """Base class of offline planners (register subclasses with ``@register_planner``)."""
 
     capabilities: ClassVar[Capabilities] = Capabilities()
     registered_name: ClassVar[str] = ""
 
-    def plan(self, world, *, rng: SeedLike = None) -> Plan:  # pragma: no cover - interface
-        raise NotImplementedError
+    @abc.abstractmethod
+    def plan(self, world, *, rng: SeedLike = None) -> Plan:
+        """One :class:`RobotPlan` per robot of ``world``, in the world's robot order."""
