@@ -199,6 +199,15 @@ static int ensure_buffers(Py_ssize_t n) {
     return 0;
 }
 
+/* Seed a search at ``start`` (f = f0) in the shared buffers; returns -1 when out of memory. */
+static int start_search(int32_t start, double f0) {
+    A_g[start] = 0.0;
+    A_parent[start] = -1;
+    A_stamp[start] = 2 * A_gen;
+    bq_clear(&BQ, f0);
+    return bq_push(&BQ, f0, 0.0, start) < 0 ? -1 : 0;
+}
+
 /* astar(blocked, width, height, sx, sy, gx, gy, diagonal) -> (cost, path_bytes | None, expansions) */
 static PyObject *py_astar(PyObject *self, PyObject *args) {
     PyObject *grid_obj;
@@ -221,14 +230,8 @@ static PyObject *py_astar(PyObject *self, PyObject *args) {
     uint32_t *stamp = A_stamp;
     const uint32_t seen = 2 * A_gen, closed = 2 * A_gen + 1;
     int32_t start = sy * w + sx, goal = gy * w + gx;
-    g[start] = 0.0;
-    parent[start] = -1;
-    stamp[start] = seen;
     Py_ssize_t expansions = 0;
-    int found = 0, oom = 0;
-    double f0 = octile(sx, sy, gx, gy, diagonal);
-    bq_clear(&BQ, f0);
-    if (bq_push(&BQ, f0, 0.0, start) < 0) oom = 1;
+    int found = 0, oom = start_search(start, octile(sx, sy, gx, gy, diagonal)) < 0;
     int nmoves = diagonal ? 8 : 4;
     HeapItem it;
     int popped;
@@ -412,13 +415,8 @@ static PyObject *py_jps(PyObject *self, PyObject *args) {
     uint32_t *stamp = A_stamp;
     const uint32_t seen = 2 * A_gen, closed = 2 * A_gen + 1;
     int32_t start = sy * w + sx, goal = gy * w + gx;
-    g[start] = 0.0;
-    parent[start] = -1;
-    stamp[start] = seen;
     Py_ssize_t expansions = 0;
-    double f0 = octile(sx, sy, gx, gy, 1);
-    bq_clear(&BQ, f0);
-    int found = 0, oom = bq_push(&BQ, f0, 0.0, start) < 0;
+    int found = 0, oom = start_search(start, octile(sx, sy, gx, gy, 1)) < 0;
     int dirs[8][2];
     HeapItem it;
     int popped;
