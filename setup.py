@@ -1,5 +1,5 @@
-"""Build the C extension of swarmpath.search (grid A* and distance fields); all other
-metadata lives in pyproject.toml."""
+"""Build the C extensions: swarmpath.search (grid A* and distance fields) and swarmpath.optim
+(one particle-swarm move); all other metadata lives in pyproject.toml."""
 from setuptools import Extension, setup
 
 setup(
@@ -8,6 +8,12 @@ setup(
             "swarmpath.search._gridsearch",
             ["src/swarmpath/search/_gridsearch.c"],
             extra_compile_args=["-O3"],
-        )
+        ),
+        Extension(
+            "swarmpath.optim._swarmstep",
+            ["src/swarmpath/optim/_swarmstep.c"],
+            # no fused multiply-add: the loop must round exactly as the numpy reference kernels
+            extra_compile_args=["-O3", "-ffp-contract=off"],
+        ),
     ]
 )

@@ -4,39 +4,38 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmpath.optim import MOPSO, PSO, Problem
+from swarmpath.optim import MOPSO, PSO, SPSO, Problem
 from swarmpath.optim.functions import SPHERE, zdt_front_hypervolume, zdt_problem
 from swarmpath.optim.pareto import hypervolume_2d, non_dominated
 
 REFERENCE = (1.1, 1.1)
 
 
-def sphere_medians(optimizer, seeds=range(10)) -> float:
-    return float(np.median([optimizer.minimize(SPHERE.problem(30), iterations=1000, particles=30, rng=s).f for s in seeds]))
+def sphere_medians(optimizer, seeds=range(10), iterations=1000) -> float:
+    problem = SPHERE.problem(30)
+    return float(np.median([optimizer.minimize(problem, iterations=iterations, particles=30, rng=s).f for s in seeds]))
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="the paper's SPSO (w 0.9->0.4 by eq. 32, c1 = c2 = 2) is second-order unstable while "
-    "w > 0.5 (Poli 2009: c1 + c2 < 24(1 - w^2)/(7 - 5w)), so it converges only in the last "
-    "20% of a run: median 2.6e-4 at 30 x 1000, 4e-17 at 30 x 3000. See docs/papers/amopso.md.",
-)
 def test_pso_reaches_1e_8_on_30d_sphere():
     assert sphere_medians(PSO()) < 1e-8
 
 
 @pytest.mark.slow
-def test_the_same_pso_code_with_constriction_coefficients_reaches_1e_8():
-    # Clerc & Kennedy's constriction (w = 0.7298, c = 1.49618), same loop, clamp and walls
-    constricted = PSO(w_max=0.7298, w_min=0.7298, c1=1.49618, c2=1.49618)
-    assert sphere_medians(constricted) < 1e-8
+def test_the_papers_spso_converges_only_late_in_the_run():
+    # w 0.9 -> 0.4 with c1 = c2 = 2 is second-order unstable while w > 0.5 (Poli 2009), so
+    # SPSO is far behind the constriction coefficients at 30 x 1000 and catches up with 3x the
+    # iterations (docs/papers/amopso.md)
+    at_1000 = sphere_medians(SPSO())
+    assert 1e-6 < at_1000 < 1e-2
+    assert sphere_medians(SPSO(), iterations=3000) < 1e-12
 
 
 @pytest.mark.slow
-def test_pso_improves_with_budget_on_30d_sphere():
-    short = np.median([PSO().minimize(SPHERE.problem(30), iterations=120, particles=8, rng=s).f for s in range(10)])
-    assert sphere_medians(PSO()) < 1e-3 < short
+def test_pso_and_spso_improve_with_budget_on_30d_sphere():
+    for optimizer in (PSO(), SPSO()):
+        short = np.median([optimizer.minimize(SPHERE.problem(30), iterations=120, particles=8, rng=s).f for s in range(10)])
+        assert sphere_medians(optimizer) < 1e-3 < short
 
 
 @pytest.mark.slow

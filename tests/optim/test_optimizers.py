@@ -15,11 +15,13 @@ from swarmpath.optim.functions import sphere, zdt_problem
 from swarmpath.registry import OPTIMIZERS
 
 NAMES = OPTIMIZERS.names()
-PSO_FAMILY = {"pso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso"}
+PSO_FAMILY = {"pso", "spso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso"}
 
 #: A hyperparameter value each built-in optimiser must reject.
 BAD_HYPER = {
     "pso": {"c1": -1.0},
+    "spso": {"w_min": 0.95},
+    "apso": {"c1": 3.0},
     "amopso1": {"w_min": 0.95},
     "amopso2": {"z": -1.0},
     "amopso3": {"velocity_clamp": 0.0},
@@ -46,7 +48,7 @@ def sphere_problem(dim: int = 10, counter: Counting | None = None) -> Problem:
 
 
 def test_registry_has_the_design_names():
-    assert set(NAMES) >= {"pso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso", "cso", "afsa"}
+    assert set(NAMES) >= {"pso", "spso", "apso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso", "cso", "afsa"}
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -167,7 +167,7 @@ def test_choice_margin_and_clearance_objective(case1):
     assert validate_paths(case1, [clr.path]) == []
 
 
-@pytest.mark.parametrize("update", ["pso", "amopso1", "amopso2", "amopso3"])
+@pytest.mark.parametrize("update", ["spso", "pso", "amopso1", "amopso2", "amopso3"])
 @pytest.mark.parametrize("init", ["astar", "random"])
 def test_every_rule_and_initialisation_gives_collision_free_paths(case1, update, init):
     plan = AMOPSOPathPlanner(update=update, init=init, iterations=60).plan(case1, rng=1)
@@ -214,7 +214,7 @@ def test_reproduction_writes_the_report(tmp_path):
 
     assert REPRODUCTIONS.get("amopso-paths") is reproduce
     calls = []
-    report = reproduce(tmp_path, runs=1, updates=("pso", "amopso4"), inits=("astar",),
+    report = reproduce(tmp_path, runs=1, updates=("spso", "amopso4"), inits=("astar",),
                        case2_configs=(("amopso4", "pareto", "astar"),), sweep=(0.5, 0.99),
                        progress=lambda done, total: calls.append((done, total)))
     text = report.read_text()

@@ -22,8 +22,8 @@ from swarmpath.optim.benchmark import benchmark_results
 from swarmpath.optim.functions import PAPER_FUNCTIONS, get_function
 from swarmpath.registry import register_reproduction
 
-ALGORITHMS: tuple[str, ...] = ("pso", "amopso1", "amopso2", "amopso3", "amopso4")
-LABELS = {"pso": "SPSO", "amopso1": "AMOPSO1", "amopso2": "AMOPSO2", "amopso3": "AMOPSO3", "amopso4": "AMOPSO4"}
+ALGORITHMS: tuple[str, ...] = ("spso", "amopso1", "amopso2", "amopso3", "amopso4")
+LABELS = {"spso": "SPSO", "amopso1": "AMOPSO1", "amopso2": "AMOPSO2", "amopso3": "AMOPSO3", "amopso4": "AMOPSO4"}
 #: (particles, iterations): the paper's budget and a larger one.
 BUDGETS: tuple[tuple[int, int], ...] = ((8, 120), (30, 1000))
 DIM = 30
@@ -31,17 +31,17 @@ PAPER_RUNS = 100
 
 #: Table 3 of the paper: function label -> algorithm -> (min, average) over 100 runs.
 PAPER_TABLE3: dict[str, dict[str, tuple[float, float]]] = {
-    "f1": {"pso": (0.16239, 0.26797), "amopso1": (0.020316, 0.020322), "amopso2": (0.022755, 0.02276),
+    "f1": {"spso": (0.16239, 0.26797), "amopso1": (0.020316, 0.020322), "amopso2": (0.022755, 0.02276),
            "amopso3": (0.020315, 0.020318), "amopso4": (0.021744, 0.021748)},
-    "f2": {"pso": (0.61426, 0.71556), "amopso1": (0.063806, 0.063186), "amopso2": (0.066616, 0.066639),
+    "f2": {"spso": (0.61426, 0.71556), "amopso1": (0.063806, 0.063186), "amopso2": (0.066616, 0.066639),
            "amopso3": (0.060719, 0.060745), "amopso4": (0.06022, 0.060259)},
-    "f3": {"pso": (0.20384, 8.4377), "amopso1": (0.07885, 0.087416), "amopso2": (0.065096, 0.070362),
+    "f3": {"spso": (0.20384, 8.4377), "amopso1": (0.07885, 0.087416), "amopso2": (0.065096, 0.070362),
            "amopso3": (0.072637, 0.081607), "amopso4": (0.031205, 0.048147)},
-    "f4": {"pso": (0.16376, 2.1796), "amopso1": (0.044989, 0.080379), "amopso2": (0.078139, 0.09372),
+    "f4": {"spso": (0.16376, 2.1796), "amopso1": (0.044989, 0.080379), "amopso2": (0.078139, 0.09372),
            "amopso3": (0.020808, 0.02131), "amopso4": (0.019634, 0.021526)},
-    "f5": {"pso": (0.21717, 0.30033), "amopso1": (0.018962, 0.019161), "amopso2": (0.020767, 0.020981),
+    "f5": {"spso": (0.21717, 0.30033), "amopso1": (0.018962, 0.019161), "amopso2": (0.020767, 0.020981),
            "amopso3": (0.021648, 0.02187), "amopso4": (0.021819, 0.022042)},
-    "f6": {"pso": (0.20413, 0.36459), "amopso1": (0.027966, 0.028254), "amopso2": (0.027475, 0.0281),
+    "f6": {"spso": (0.20413, 0.36459), "amopso1": (0.027966, 0.028254), "amopso2": (0.027475, 0.0281),
            "amopso3": (0.028591, 0.028887), "amopso4": (0.028807, 0.029154)},
 }
 
@@ -198,7 +198,7 @@ def _report(
         "(lower is better); std is the population standard deviation over runs. "
         f"Run time: {elapsed[0]:.0f} s wall, {elapsed[1]:.0f} s CPU.",
         "",
-        "Algorithms: SPSO = `pso` (w 0.9 -> 0.4 by eq. 32, c1 = c2 = 2); AMOPSO1-4 = Table 1 "
+        "Algorithms: SPSO = `spso` (w 0.9 -> 0.4 by eq. 32, c1 = c2 = 2); AMOPSO1-4 = Table 1 "
         "(eq. 15/16, 17-22, 23-24). All clamp velocity to 0.2 of the box width and stop particles "
         "at the box walls.",
         "",
@@ -230,7 +230,7 @@ def _report(
         tally = {a: {"better": 0, "worse": 0, "no difference": 0} for a in ALGORITHMS[1:]}
         for fname in functions:
             label = get_function(fname).paper_label or fname
-            base = cells[(fname, "pso")].best
+            base = cells[(fname, "spso")].best
             row = [label]
             for algo in ALGORITHMS[1:]:
                 p, verdict = wilcoxon_vs(cells[(fname, algo)].best, base)

@@ -32,8 +32,8 @@ import numpy as np
 from swarmpath.errors import ConfigError
 from swarmpath.registry import register_reproduction
 
-UPDATES: tuple[str, ...] = ("pso", "amopso1", "amopso2", "amopso3", "amopso4")
-LABELS = {"pso": "SPSO", "amopso1": "AMOPSO1", "amopso2": "AMOPSO2", "amopso3": "AMOPSO3", "amopso4": "AMOPSO4"}
+UPDATES: tuple[str, ...] = ("spso", "amopso1", "amopso2", "amopso3", "amopso4")
+LABELS = {"spso": "SPSO", "pso": "PSO (constriction)", "amopso1": "AMOPSO1", "amopso2": "AMOPSO2", "amopso3": "AMOPSO3", "amopso4": "AMOPSO4"}
 MODES: tuple[str, ...] = ("pareto", "weighted-sum")
 INITS: tuple[str, ...] = ("astar", "random")
 DEFAULT_RUNS = 30
@@ -274,7 +274,7 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
 # ------------------------------------------------------------------------------------ report
 def _case1_rows(case1, updates, mode, init, ref_safe: float) -> list[str]:
     rows = []
-    base = np.array([c.length for c in case1.get(("pso", mode, init), [])], float)
+    base = np.array([c.length for c in case1.get(("spso", mode, init), [])], float)
     for update in updates:
         cell = case1[(update, mode, init)]
         L = np.array([c.length for c in cell], float)
@@ -283,7 +283,7 @@ def _case1_rows(case1, updates, mode, init, ref_safe: float) -> list[str]:
         fronts = np.array([len(c.front) for c in cell], float)
         cpu = np.mean([c.cpu_s for c in cell])
         ok = np.isfinite(L)
-        if update != "pso" and len(base):
+        if update != "spso" and len(base):
             p, verdict = wilcoxon_vs(L, base)
             test = f"{verdict} (p = {p:.2g})"
         else:

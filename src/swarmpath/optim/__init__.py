@@ -7,7 +7,8 @@ Problem -> optimiser -> result, tied by :func:`minimize`::
     res = minimize(p, "amopso3", iterations=200, particles=30, seed=1)
     res.x, res.f, res.history
 
-Registered optimisers: ``pso``, ``amopso1`` .. ``amopso4``, ``mopso``, ``cso``, ``afsa``.
+Registered optimisers: ``pso`` (constriction coefficients), ``spso`` (the paper's SPSO),
+``apso`` (Zhan et al.'s adaptive PSO), ``amopso1`` .. ``amopso4``, ``mopso``, ``cso``, ``afsa``.
 Registered functions: ``sphere``, ``quadric``, ``quartic-noise``, ``rastrigin``, ``ackley``,
 ``griewank``, ``rosenbrock``. The equations as implemented and every interpretation are in
 docs/papers/amopso.md.
@@ -28,6 +29,7 @@ from swarmpath.optim.amopso import (
     amopso_random_factors,
     amopso_rule,
 )
+from swarmpath.optim.apso import APSO
 from swarmpath.optim.base import Optimizer
 from swarmpath.optim.benchmark import benchmark_results, run_benchmark
 from swarmpath.optim.cso import CSO, cso_seek_candidates, cso_selection_probabilities, cso_trace_velocity
@@ -53,6 +55,7 @@ from swarmpath.optim.pareto import crowding_distance, dominates, hypervolume_2d,
 from swarmpath.optim.problem import Problem
 from swarmpath.optim.pso import (
     PSO,
+    SPSO,
     SPSORule,
     UpdateRule,
     clamp_velocity,
@@ -63,9 +66,9 @@ from swarmpath.optim.pso import (
 from swarmpath.optim.result import OptimizeResult
 
 __all__ = [
-    "AFSA", "AMOPSO", "AMOPSO1", "AMOPSO2", "AMOPSO3", "AMOPSO4", "AMOPSO_VARIANTS", "AMOPSORule",
+    "AFSA", "AMOPSO", "APSO", "AMOPSO1", "AMOPSO2", "AMOPSO3", "AMOPSO4", "AMOPSO_VARIANTS", "AMOPSORule",
     "BenchmarkFunction", "CSO", "MOPSO", "OptimizeResult", "Optimizer", "PAPER_FUNCTIONS", "PSO",
-    "Problem", "SPSORule", "UpdateRule", "ackley", "amopso_acceleration", "amopso_inertia_eq15",
+    "Problem", "SPSO", "SPSORule", "UpdateRule", "ackley", "amopso_acceleration", "amopso_inertia_eq15",
     "amopso_inertia_eq16", "amopso_l_factor", "amopso_random_factors", "amopso_rule",
     "benchmark_results", "clamp_velocity", "coello_mutation", "crowding_distance",
     "crowding_tournament", "cso_seek_candidates", "cso_selection_probabilities",

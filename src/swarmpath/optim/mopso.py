@@ -14,9 +14,10 @@ particle swarm optimization", with the crowding-distance archive of Raquel & Nav
 Weighted-sum mode scalarises the objectives with weights that sum to 1 (eq. 13) and runs the
 global-best update on the sum, still recording the archive of everything it evaluated.
 
-The velocity rule is any of the single-objective ones: ``update="pso"`` (SPSO) or
-``"amopso1"`` ... ``"amopso4"``; the adaptive rules need one cost per particle, which in Pareto
-mode is the mean of the objectives normalised by the archive's ideal and nadir points.
+The velocity rule is any of the single-objective ones: ``update="spso"`` (the paper's SPSO),
+``"pso"`` (constriction) or ``"amopso1"`` ... ``"amopso4"``; the adaptive rules need one cost
+per particle, which in Pareto mode is the mean of the objectives normalised by the archive's
+ideal and nadir points.
 """
 from __future__ import annotations
 
@@ -33,19 +34,31 @@ from swarmpath.optim.amopso import AMOPSO_VARIANTS, amopso_rule
 from swarmpath.optim.base import Optimizer, RunOutput, initial_positions
 from swarmpath.optim.pareto import crowding_distance, dominates, non_dominated, truncate_by_crowding, unique_rows
 from swarmpath.optim.problem import Problem
-from swarmpath.optim.pso import SPSORule, UpdateRule, clamp_velocity, pso_position_update, pso_velocity_update
+from swarmpath.optim.pso import (
+    CONSTRICTION_ACCELERATION,
+    CONSTRICTION_INERTIA,
+    SPSORule,
+    UpdateRule,
+    swarm_move,
+)
 from swarmpath.registry import register_optimizer
 
 Array = NDArray[np.float64]
 
-UPDATE_RULES = ("pso", *(f"amopso{k}" for k in AMOPSO_VARIANTS))
+UPDATE_RULES = ("spso", "pso", *(f"amopso{k}" for k in AMOPSO_VARIANTS))
 MODES = ("pareto", "weighted-sum")
 
 
 def update_rule(name: str) -> UpdateRule:
-    """The velocity-update rule called ``name``: "pso" (SPSO, eq. 32) or "amopso1".."amopso4"."""
-    if name == "pso":
+    """The velocity-update rule called ``name``, as the optimiser of that name uses it.
+
+    "spso" (the paper's SPSO: eq. 32, c1 = c2 = 2), "pso" (constriction coefficients) or
+    "amopso1".."amopso4" (Table 1).
+    """
+    if name == "spso":
         return SPSORule()
+    if name == "pso":
+        return SPSORule(CONSTRICTION_INERTIA, CONSTRICTION_INERTIA, CONSTRICTION_ACCELERATION, CONSTRICTION_ACCELERATION)
     if name.startswith("amopso") and name[6:].isdigit() and int(name[6:]) in AMOPSO_VARIANTS:
         return amopso_rule(int(name[6:]))
     raise ConfigError(f"mopso: update must be one of {', '.join(UPDATE_RULES)}; got {name!r}")
@@ -171,7 +184,8 @@ class MOPSO(Optimizer):
     Parameters
     ----------
     update : str
-        Velocity rule: "pso" (SPSO: w 0.9 -> 0.4, c1 = c2 = 2) or "amopso1" .. "amopso4".
+        Velocity rule: "spso" (the paper's SPSO: w 0.9 -> 0.4, c1 = c2 = 2), "pso" (constriction
+        coefficients) or "amopso1" .. "amopso4".
     mode : str
         "pareto" (archive, eq. 14) or "weighted-sum" (eq. 13).
     weights : sequence of float, optional
@@ -190,7 +204,7 @@ class MOPSO(Optimizer):
 
     multi_objective = True
 
-    update: str = "pso"
+    update: str = "spso"
     mode: str = "pareto"
     weights: Sequence[float] | None = None
     archive_size: int = 100
@@ -259,9 +273,8 @@ class MOPSO(Optimizer):
                 cost = pbest_s
                 best_cost = float(cost.min())
                 leaders = pbest_x[int(np.argmin(pbest_s))]
-            w, c1, c2, r1, r2 = rule.coefficients(t, iterations, cost, best_cost, rng, x.shape)
-            v = clamp_velocity(pso_velocity_update(v, x, pbest_x, leaders, w, c1, c2, r1, r2), v_max)
-            x, v = pso_position_update(x, v, lower, upper)
+            coefficients = rule.coefficients(t, iterations, cost, best_cost, rng, x.shape)
+            x, v = swarm_move(x, v, pbest_x, leaders, coefficients, v_max, lower, upper)
             x = coello_mutation(x, t, iterations, self.mutation_rate, lower, upper, rng)
             try:
                 F = objectives(x)

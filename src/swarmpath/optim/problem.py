@@ -106,6 +106,9 @@ class Problem:
         """Number of decision variables."""
         return int(self.lower.shape[0])
 
+    def _label(self) -> str:
+        return f"problem {self.name!r}" if self.name else "problem"
+
     def evaluate(self, X: ArrayLike) -> NDArray[np.float64]:
         """Objective values of the points ``X``.
 
@@ -120,19 +123,18 @@ class Problem:
         never become a best position.
         """
         X = np.asarray(X, dtype=float)
-        label = f"problem {self.name!r}" if self.name else "problem"
         if X.ndim != 2 or X.shape[1] != self.dim:
-            raise ConfigError(f"{label}: expected points of shape (n, {self.dim}), got {X.shape}")
+            raise ConfigError(f"{self._label()}: expected points of shape (n, {self.dim}), got {X.shape}")
         F = np.asarray(self.func(X), dtype=float)
         n = X.shape[0]
         if self.n_objectives == 1:
             if F.shape == (n, 1):
                 F = F[:, 0]
             if F.shape != (n,):
-                raise ConfigError(f"{label}: objective returned shape {F.shape}, expected ({n},)")
+                raise ConfigError(f"{self._label()}: objective returned shape {F.shape}, expected ({n},)")
         elif F.shape != (n, self.n_objectives):
             raise ConfigError(
-                f"{label}: objective returned shape {F.shape}, expected ({n}, {self.n_objectives})"
+                f"{self._label()}: objective returned shape {F.shape}, expected ({n}, {self.n_objectives})"
             )
         total = F.sum()
         if total != total:  # NaN somewhere (or inf - inf): replace NaN by +inf

@@ -11,7 +11,7 @@ constraint: a path that enters one (``World.static_hits`` with the robot's radiu
 validator's test) gets a penalty larger than any feasible objective plus its penetration depth,
 so every feasible path dominates every infeasible one.
 
-The optimiser is :class:`swarmpath.optim.MOPSO` with the chosen velocity rule (``pso`` or
+The optimiser is :class:`swarmpath.optim.MOPSO` with the chosen velocity rule (``spso``, ``pso`` or
 ``amopso1`` .. ``amopso4``, Table 1) in one of two modes:
 
 - ``mode="pareto"`` (eq. 14): the external archive is the front. The returned path is chosen
@@ -158,7 +158,7 @@ class AMOPSOPathPlanner(Planner):
     Parameters
     ----------
     update : str
-        Velocity rule: ``"pso"`` or ``"amopso1"`` .. ``"amopso4"`` (Table 1).
+        Velocity rule: ``"spso"`` (the paper's SPSO), ``"pso"`` (constriction) or ``"amopso1"`` .. ``"amopso4"`` (Table 1).
     mode : str
         ``"pareto"`` (eq. 14, archive + choice rule) or ``"weighted-sum"`` (eq. 13).
     weights : sequence of two floats, optional
