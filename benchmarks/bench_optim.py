@@ -4,13 +4,18 @@ Run on demand (not a test):
 
     . .venv/bin/activate && pip install pyswarms pymoo      # the [bench] extra has both
     python benchmarks/bench_optim.py --setup-mealpy           # once: mealpy in .venv-mealpy
-    python benchmarks/bench_optim.py [--seeds 10] [--quick]
+    python benchmarks/bench_optim.py [--seeds 10] [--quick] [--only spso,apso,pyswarms]
 
 Same functions (30-D sphere, Rastrigin, Ackley, Griewank on the paper's boxes), same budgets
 (8 particles x 120 iterations and 30 x 1000), same vectorised function code for every library,
 10 seeds, CPU time per run (the code is single-threaded; CPU time is the wall time of an idle
 machine and stays fair on a shared one; wall time is in the --json output). Every algorithm gets particles x iterations evaluations: PSO-type peers by their
 iteration count, the cat swarms (ours and mealpy's) by an evaluation cap.
+
+Ours: ``pso`` (constriction coefficients), ``spso`` (the paper's SPSO), ``apso`` (Zhan et al.'s
+adaptive PSO, capped at the same evaluations: its elitist learning costs one extra evaluation
+in the convergence state), ``amopso1-4`` and ``cso``. Speed ratios are against ``spso``, the
+configuration pyswarms runs.
 
 Peers: pyswarms GlobalBestPSO (w 0.9 -> 0.4 linearly, c1 = c2 = 2, the same velocity clamp and
 clip-to-box walls as ours, i.e. the paper's SPSO), pymoo's PSO (its defaults: adaptive w/c1/c2
@@ -67,7 +72,7 @@ def run_ours(name):
     def run(fname, particles, iterations, seed):
         f, b = FUNCTIONS[fname]
         p = Problem(f, -b, b, dim=DIM)
-        cap = particles * iterations if name in ("cso", "afsa") else None
+        cap = particles * iterations if name in ("cso", "afsa", "apso") else None
         res = minimize(p, name, iterations=iterations if cap is None else 10**9, particles=particles,
                        seed=seed, max_evaluations=cap)
         return res.f, res.n_evaluations
@@ -189,6 +194,8 @@ def main() -> None:
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--budgets", default=None, help=argparse.SUPPRESS)
     ap.add_argument("--json", type=Path, default=None, help="also write the raw numbers here")
+    ap.add_argument("--only", default=None,
+                    help="comma-separated subset, e.g. spso,apso,pyswarms (peers: pyswarms, pymoo, mealpy)")
     args = ap.parse_args()
     if args.quick:
         args.seeds = 3
@@ -203,31 +210,41 @@ def main() -> None:
 
     seeds = range(args.seeds)
     results = {}
-    ours = ["pso", "amopso1", "amopso2", "amopso3", "amopso4", "cso"]
+    only = set(args.only.split(",")) | {"spso"} if args.only else None  # spso: the speed baseline
+    wanted = (lambda name: only is None or name in only)
+    ours = [n for n in ["pso", "spso", "apso", "amopso1", "amopso2", "amopso3", "amopso4", "cso"] if wanted(n)]
     for name in ours:
         results[name] = measure(run_ours(name), seeds, args.budget_list, FUNCTIONS)
         print(f"measured {name}", file=sys.stderr)
     for label, run in [("pyswarms GlobalBestPSO", run_pyswarms), ("pymoo PSO", run_pymoo)]:
+        if not wanted(label.split()[0]):
+            continue
         try:
             results[label] = measure(run, seeds, args.budget_list, FUNCTIONS)
             print(f"measured {label}", file=sys.stderr)
         except ImportError as exc:
             print(f"skipping {label}: {exc}", file=sys.stderr)
-    py = MEALPY_VENV / "bin" / "python"
-    if py.exists():
-        budgets = ",".join(f"{p}x{i}" for p, i in args.budget_list)
-        proc = subprocess.run([str(py), __file__, "--worker", "--seeds", str(args.seeds), "--budgets", budgets],
-                              capture_output=True, text=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
-        if proc.returncode == 0:
-            results.update(json.loads(proc.stdout.strip().splitlines()[-1]))
-            print("measured mealpy", file=sys.stderr)
-        else:
-            print(f"mealpy worker failed: {proc.stderr.strip()[-500:]}", file=sys.stderr)
-    else:
-        print("skipping mealpy: run `python benchmarks/bench_optim.py --setup-mealpy` first", file=sys.stderr)
+    if wanted("mealpy"):
+        results.update(measure_mealpy(args))
     if args.json:
         args.json.write_text(json.dumps(results, indent=1))
     report(results, args.budget_list, args.seeds)
+
+
+def measure_mealpy(args) -> dict:
+    """mealpy's results from a worker process in .venv-mealpy (empty if it is not set up)."""
+    py = MEALPY_VENV / "bin" / "python"
+    if not py.exists():
+        print("skipping mealpy: run `python benchmarks/bench_optim.py --setup-mealpy` first", file=sys.stderr)
+        return {}
+    budgets = ",".join(f"{p}x{i}" for p, i in args.budget_list)
+    proc = subprocess.run([str(py), __file__, "--worker", "--seeds", str(args.seeds), "--budgets", budgets], check=False,
+                          capture_output=True, text=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    if proc.returncode != 0:
+        print(f"mealpy worker failed: {proc.stderr.strip()[-500:]}", file=sys.stderr)
+        return {}
+    print("measured mealpy", file=sys.stderr)
+    return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
 def report(results, budgets, n_seeds) -> None:
@@ -237,10 +254,10 @@ def report(results, budgets, n_seeds) -> None:
         key = f"{particles}x{iterations}"
         print(f"\n## {particles} particles x {iterations} iterations ({particles * iterations} evaluations)\n")
         print("| algorithm | " + " | ".join(f"{f} best" for f in FUNCTIONS)
-              + " | ms/run | / ours pso | ms/run outside f | / ours pso |")
+              + " | ms/run | / ours spso | ms/run outside f | / ours spso |")
         print("|---|" + "---|" * (len(FUNCTIONS) + 4))
-        base = statistics.mean(results["pso"][key][f]["time"] for f in FUNCTIONS)
-        base_o = statistics.mean(results["pso"][key][f]["overhead"] for f in FUNCTIONS)
+        base = statistics.mean(results["spso"][key][f]["time"] for f in FUNCTIONS)
+        base_o = statistics.mean(results["spso"][key][f]["overhead"] for f in FUNCTIONS)
         for n in names:
             cells = results[n][key]
             t = statistics.mean(cells[f]["time"] for f in FUNCTIONS)
@@ -251,15 +268,21 @@ def report(results, budgets, n_seeds) -> None:
               "outside f: the same minus the time inside the objective function")
         evals = {n: sorted({results[n][key][f]["evals"] for f in FUNCTIONS}) for n in names}
         print("\nevaluations per run: " + ", ".join(f"{n} {'/'.join(map(str, e))}" for n, e in evals.items()))
-        if "pymoo PSO" in results:
-            adaptive = ["amopso1", "amopso2", "amopso3", "amopso4"]
-            wins = []
-            for f in FUNCTIONS:
-                best_variant = min(adaptive, key=lambda a: results[a][key][f]["best"])
-                ok = results[best_variant][key][f]["best"] <= results["pymoo PSO"][key][f]["best"]
-                wins.append(f"{f}: {best_variant} {results[best_variant][key][f]['best']:.3g} vs pymoo "
-                            f"{results['pymoo PSO'][key][f]['best']:.3g} ({'ok' if ok else 'worse'})")
-            print("best adaptive variant vs pymoo PSO: " + "; ".join(wins))
+        if "pymoo PSO" in results and "amopso1" in results:
+            for group in (["amopso1", "amopso2", "amopso3", "amopso4"], ["apso", "amopso1", "amopso2", "amopso3", "amopso4"]):
+                print(f"best of {', '.join(group)} vs pymoo PSO: " + _versus(results, key, group, "pymoo PSO"))
+
+
+def _versus(results, key, group, peer) -> str:
+    """Per function: the best median of ``group`` against ``peer``'s, and the tally of ok's."""
+    cells, ok_count = [], 0
+    for f in FUNCTIONS:
+        best = min(group, key=lambda a: results[a][key][f]["best"])
+        ok = results[best][key][f]["best"] <= results[peer][key][f]["best"]
+        ok_count += ok
+        cells.append(f"{f}: {best} {results[best][key][f]['best']:.3g} vs {results[peer][key][f]['best']:.3g} "
+                     f"({'ok' if ok else 'worse'})")
+    return "; ".join(cells) + f" -> at least as good on {ok_count} of {len(FUNCTIONS)}"
 
 
 if __name__ == "__main__":

@@ -13,6 +13,6 @@ def styblinski_tang(X: np.ndarray) -> np.ndarray:
 
 
 problem = Problem(styblinski_tang, lower=[-5] * 5, upper=[5] * 5)
-for algorithm in ("pso", "amopso3"):
+for algorithm in ("pso", "apso", "amopso3"):
     res = minimize(problem, algorithm, iterations=300, particles=30, seed=1)
     print(f"{algorithm:8}: f = {res.f:.4f} (optimum {-39.16617 * 5:.4f}) after {res.n_evaluations} evaluations")
