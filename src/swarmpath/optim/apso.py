@@ -34,9 +34,9 @@ from scipy.spatial.distance import cdist
 
 from swarmpath.optim._budget import BudgetExhausted, Evaluator
 from swarmpath.optim._checks import check_float
-from swarmpath.optim.base import Optimizer, RunOutput, initial_positions
+from swarmpath.optim.base import Optimizer, RunOutput
 from swarmpath.optim.problem import Problem
-from swarmpath.optim.pso import Coefficients, swarm_move
+from swarmpath.optim.pso import Coefficients, GlobalBestSwarm
 from swarmpath.registry import register_optimizer
 
 Array = NDArray[np.float64]
@@ -180,48 +180,41 @@ class APSO(Optimizer):
         rng: np.random.Generator,
         initial: Array | None,
     ) -> RunOutput:
-        lower, upper = problem.lower, problem.upper
-        v_max = self.velocity_clamp * (upper - lower)
-        x = initial_positions(lower, upper, particles, rng, initial)
-        v = v_max * (2.0 * rng.random(x.shape) - 1.0)
-        f = evaluate(x)
-        pbest_x, pbest_f = x.copy(), f.copy()
-        g = int(np.argmin(pbest_f))
-        gbest_x, gbest_f = pbest_x[g].copy(), float(pbest_f[g])
+        swarm = GlobalBestSwarm(problem, evaluate, particles=particles, rng=rng, initial=initial,
+                                velocity_clamp=self.velocity_clamp)
         history = np.empty(iterations)
-        history[0] = gbest_f
+        history[0] = swarm.gbest_f
         done, stop = 1, "iterations"
         c1, c2, state = self.c1, self.c2, EXPLORATION
-        w = 0.9
         for t in range(1, iterations):
-            factor = evolutionary_factor(x, gbest_x)
+            factor = evolutionary_factor(swarm.x, swarm.gbest_x)
             state = classify_state(factor, state)
             w = adaptive_inertia(factor)
             c1, c2 = adapt_acceleration(c1, c2, state, float(rng.uniform(0.05, 0.1)))
             try:
                 if state == CONVERGENCE and self.elitist_learning:
-                    progress = run_progress(t, iterations, evaluate)
-                    sigma = self.sigma_max - (self.sigma_max - self.sigma_min) * progress
-                    candidate = elitist_learning_candidate(gbest_x, lower, upper, sigma, rng)
-                    cand_f = float(evaluate(candidate[None, :])[0])
-                    if cand_f < gbest_f:
-                        gbest_x, gbest_f = candidate, cand_f
-                    else:
-                        worst = int(np.argmax(pbest_f))
-                        x[worst] = candidate
-                        pbest_x[worst], pbest_f[worst] = candidate, cand_f
-                r = rng.random((2, *x.shape))
-                x, v = swarm_move(x, v, pbest_x, gbest_x, Coefficients(w, c1, c2, r[0], r[1]), v_max, lower, upper)
-                f = evaluate(x)
+                    self._elitist_learning(swarm, evaluate, run_progress(t, iterations, evaluate), rng)
+                r = rng.random((2, *swarm.x.shape))
+                swarm.move(Coefficients(w, c1, c2, r[0], r[1]))
+                f = evaluate(swarm.x)
             except BudgetExhausted:
                 stop = "max_evaluations"
                 break
-            better = f < pbest_f
-            np.copyto(pbest_x, x, where=better[:, None])
-            np.minimum(pbest_f, f, out=pbest_f)
-            g = int(np.argmin(pbest_f))
-            if pbest_f[g] < gbest_f:
-                gbest_x, gbest_f = pbest_x[g].copy(), float(pbest_f[g])
-            history[done] = gbest_f
+            swarm.record(f)
+            history[done] = swarm.gbest_f
             done += 1
-        return RunOutput(gbest_x, gbest_f, history[:done], done, stop, np.array([gbest_f]))
+        return swarm.output(history[:done], stop)
+
+    def _elitist_learning(
+        self, swarm: GlobalBestSwarm, evaluate: Evaluator, progress: float, rng: np.random.Generator
+    ) -> None:
+        """Zhan IV-B: a better candidate becomes the global best, a worse one the worst particle."""
+        sigma = self.sigma_max - (self.sigma_max - self.sigma_min) * progress
+        candidate = elitist_learning_candidate(swarm.gbest_x, swarm.lower, swarm.upper, sigma, rng)
+        cand_f = float(evaluate(candidate[None, :])[0])
+        if cand_f < swarm.gbest_f:
+            swarm.gbest_x, swarm.gbest_f = candidate, cand_f
+        else:
+            worst = int(np.argmax(swarm.pbest_f))
+            swarm.x[worst] = candidate
+            swarm.pbest_x[worst], swarm.pbest_f[worst] = candidate, cand_f

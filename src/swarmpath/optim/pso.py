@@ -203,6 +203,56 @@ class SPSORule:
         return Coefficients(w, self.c1, self.c2, r[0], r[1])
 
 
+class GlobalBestSwarm:
+    """The state of a global-best swarm: positions, velocities, personal and global bests.
+
+    Shared by every global-best loop (SPSO, AMOPSO1-4 through :func:`run_gbest_swarm`, and
+    APSO), so that starting the swarm, moving it and keeping the bests is written once.
+    """
+
+    def __init__(
+        self,
+        problem: Problem,
+        evaluate: Evaluator,
+        *,
+        particles: int,
+        rng: np.random.Generator,
+        initial: Array | None,
+        velocity_clamp: float,
+    ) -> None:
+        """Eq. 31: the initial swarm, random velocities within the clamp, one evaluation each."""
+        self.lower, self.upper = problem.lower, problem.upper
+        self.v_max = velocity_clamp * (self.upper - self.lower)
+        self.x = initial_positions(self.lower, self.upper, particles, rng, initial)
+        self.v = self.v_max * (2.0 * rng.random(self.x.shape) - 1.0)
+        f = evaluate(self.x)
+        self.pbest_x = self.x.copy()
+        self.pbest_f = f.copy()
+        g = int(np.argmin(self.pbest_f))
+        self.gbest_x = self.pbest_x[g].copy()
+        self.gbest_f = float(self.pbest_f[g])
+
+    def move(self, coefficients: Coefficients) -> None:
+        """Eq. 9-12 for every particle towards its personal best and the global best."""
+        self.x, self.v = swarm_move(
+            self.x, self.v, self.pbest_x, self.gbest_x, coefficients, self.v_max, self.lower, self.upper
+        )
+
+    def record(self, f: Array) -> None:
+        """Keep the better of each personal best and the new position, then the global best."""
+        better = f < self.pbest_f
+        np.copyto(self.pbest_x, self.x, where=better[:, None])
+        np.minimum(self.pbest_f, f, out=self.pbest_f)
+        g = int(np.argmin(self.pbest_f))
+        if self.pbest_f[g] < self.gbest_f:
+            self.gbest_x = self.pbest_x[g].copy()
+            self.gbest_f = float(self.pbest_f[g])
+
+    def output(self, history: Array, stop: str) -> RunOutput:
+        """The run's result, with the best-so-far ``history`` of the iterations done."""
+        return RunOutput(self.gbest_x, self.gbest_f, history, len(history), stop, np.array([self.gbest_f]))
+
+
 def run_gbest_swarm(
     problem: Problem,
     evaluate: Evaluator,
@@ -222,39 +272,23 @@ def run_gbest_swarm(
     the personal and global bests. Evaluations: exactly iterations * particles, unless the
     evaluator's budget ends the run first.
     """
-    lower, upper = problem.lower, problem.upper
-    v_max = velocity_clamp * (upper - lower)
-    x = initial_positions(lower, upper, particles, rng, initial)
-    v = v_max * (2.0 * rng.random(x.shape) - 1.0)
-    f = evaluate(x)
-    pbest_x = x.copy()
-    pbest_f = f.copy()
-    g = int(np.argmin(pbest_f))
-    gbest_x = pbest_x[g].copy()
-    gbest_f = float(pbest_f[g])
+    swarm = GlobalBestSwarm(problem, evaluate, particles=particles, rng=rng, initial=initial,
+                            velocity_clamp=velocity_clamp)
     history = np.empty(iterations)
-    history[0] = gbest_f
+    history[0] = swarm.gbest_f
     done = 1
     stop = "iterations"
-    shape = x.shape
     for t in range(1, iterations):
-        coefficients = rule.coefficients(t, iterations, pbest_f, gbest_f, rng, shape)
-        x, v = swarm_move(x, v, pbest_x, gbest_x, coefficients, v_max, lower, upper)
+        swarm.move(rule.coefficients(t, iterations, swarm.pbest_f, swarm.gbest_f, rng, swarm.x.shape))
         try:
-            f = evaluate(x)
+            f = evaluate(swarm.x)
         except BudgetExhausted:
             stop = "max_evaluations"
             break
-        better = f < pbest_f
-        np.copyto(pbest_x, x, where=better[:, None])
-        np.minimum(pbest_f, f, out=pbest_f)
-        g = int(np.argmin(pbest_f))
-        if pbest_f[g] < gbest_f:
-            gbest_x = pbest_x[g].copy()
-            gbest_f = float(pbest_f[g])
-        history[done] = gbest_f
+        swarm.record(f)
+        history[done] = swarm.gbest_f
         done += 1
-    return RunOutput(gbest_x, gbest_f, history[:done], done, stop, np.array([gbest_f]))
+    return swarm.output(history[:done], stop)
 
 
 def check_inertia_bounds(owner: str, w_min: float, w_max: float) -> None:
