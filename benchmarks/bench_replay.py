@@ -34,7 +34,7 @@ CHROMIUM_ARGS = ["--no-sandbox", "--headless", "--disable-gpu", "--disable-backg
 
 def real_run(n_robots: int, n_steps: int, seed: int = 0) -> Trajectory:
     """A* + follow on a 150 x 150 world (robots at distinct cell centres)."""
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.world import world_from_dict
 
     size = 150

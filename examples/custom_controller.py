@@ -5,9 +5,9 @@
 import numpy as np
 
 from swarmpath.control import Controller, Decision
-from swarmpath.planning import Capabilities
+from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
-from swarmpath.sim import run_world
+from swarmpath.runner import run_world
 from swarmpath.testing import check_controller
 from swarmpath.world import load_scenario
 
@@ -40,4 +40,4 @@ class GreedyWait(Controller):
 if __name__ == "__main__":
     print("conformance problems:", check_controller(GreedyWait, planner=None, require_collision_free=False))
     result = run_world(load_scenario("karim2014"), planner="none", controller="greedy-wait", seed=1)
-    print("karim2014 with greedy-wait:", result.summary["status"], result.summary["collisions"])
+    print("karim2014 with greedy-wait:", result.summary.verdict(), dict(result.summary.collisions))

@@ -47,7 +47,7 @@ def _need(scenario: str, planner: str | None = None, controller: str | None = No
 
 def jaleel2016(out: Path) -> Path:
     """The README picture: what `swarmpath run jaleel2016` does (the scenario's defaults)."""
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.viz.style import save_figure
     from swarmpath.viz.world_plot import plot_trajectory
 
@@ -57,7 +57,7 @@ def jaleel2016(out: Path) -> Path:
 
 
 def karim2014(out: Path) -> Path:
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.viz.style import save_figure
     from swarmpath.viz.world_plot import plot_snapshots
 
@@ -65,14 +65,14 @@ def karim2014(out: Path) -> Path:
     result = run_world(world, seed=0)
     traj = result.trajectory
     title = (f"karim2014 - controller fish-swarm, seed 0: {traj.n_steps} steps, "
-             f"path length {result.summary['sum_of_lengths']:.2f}, "
-             f"{sum(result.summary['collisions'].values())} collisions")
+             f"path length {result.summary.sum_of_lengths:.2f}, "
+             f"{result.summary.contacts} collisions")
     return save_figure(plot_snapshots(traj, n_panels=4, title=title), out / "karim2014.png", dpi=120)
 
 
 def prediction2013(out: Path) -> Path:
     from swarmpath.metrics.utd import uncovered_target_distance
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.viz.curves import plot_utd_curves
     from swarmpath.viz.style import new_figure, save_figure
     from swarmpath.viz.world_plot import plot_trajectory
@@ -94,13 +94,13 @@ def prediction2013(out: Path) -> Path:
 
 
 def abbas_case1(out: Path) -> Path:
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.viz.style import save_figure
     from swarmpath.viz.world_plot import plot_trajectory
 
     world = _need("abbas-case1", "amopso-path", "follow")
     result = run_world(world, planner="amopso-path", controller="follow", seed=0)
-    length = result.summary["robots"][0]["planned_length"]
+    length = result.summary.robots[0].planned_length
     extra = f"planned length {length:.2f} (paper 14.4-14.7; straight line 14.14)" if length else None
     fig = plot_trajectory(result.trajectory)
     if extra:

@@ -9,12 +9,14 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-_SUBPACKAGES = {"world", "search", "optim", "planning", "control", "sim", "metrics", "viz",
+_SUBPACKAGES = {"world", "search", "optim", "planning", "control", "sim", "metrics", "runner", "viz",
                 "bench", "testing"}
 _SHORTCUTS = {
     "World": "swarmpath.world",
     "load_scenario": "swarmpath.world",
     "SwarmpathError": "swarmpath.errors",
+    "run_world": "swarmpath.runner",
+    "simulate": "swarmpath.runner",
 }
 
 

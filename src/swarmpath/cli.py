@@ -70,7 +70,7 @@ def run(scenario: str | None, map_file: str | None, scen_file: str | None, agent
         controller: str | None, seed: int, max_steps: int | None, out: str | None, json_mode: bool) -> None:
     """Plan and simulate a scenario (default: jaleel2016) and report the outcome."""
     from swarmpath.errors import ConfigError
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.world import load_scenario, world_from_movingai
 
     if map_file or scen_file:
@@ -95,9 +95,9 @@ def run(scenario: str | None, map_file: str | None, scen_file: str | None, agent
         if not json_mode:
             console.print(f"wrote {len(written)} files to {out}")
     if json_mode:
-        _emit_json(result.summary)
+        _emit_json(result.summary.to_dict())
         return
-    _print_run_summary(console, result.summary)
+    _print_run_summary(console, result.summary.to_dict())
 
 
 DEFAULT_SCENARIO = "jaleel2016"

@@ -102,6 +102,6 @@ def test_a_swap_without_room_is_reported_never_counted_as_success() -> None:
     traj = run(world, max_steps=150)
     assert traj.status != "all_reached"
     summary = run_summary(world, traj)
-    assert summary["success"] is False
-    assert summary["collisions"] == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
+    assert summary.success is False
+    assert summary.collisions == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
     assert any(e["kind"] == "deadlock" for e in traj.events)

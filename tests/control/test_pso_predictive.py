@@ -10,7 +10,7 @@ import pytest
 from swarmpath.control import pso_predictive as pp
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS
-from swarmpath.sim.run import choose_pair
+from swarmpath.runner import choose_pair
 from swarmpath.sim.simulator import Simulator
 from swarmpath.sim.trajectory import ALL_REACHED
 from swarmpath.testing import check_controller, validate_trajectory
@@ -77,8 +77,8 @@ def test_predicted_sweep_is_a_hard_constraint_only_with_prediction():
     predictive problem and accepted by the reactive one."""
     world = World(RectBounds(20, 20), robots=(Robot("a", (10, 5), (10, 15), 0.5, 0.5),),
                   moving_obstacles=(MovingObstacle("m", Circle((0, 0), 1.0), (7.0, 7.0), (0.5, 0.0), Bounce()),))
-    from swarmpath.sim.observation import Observation
-    from swarmpath.sim.sensing import SensingConfig, sense
+    from swarmpath.control.observation import Observation, SensingConfig
+    from swarmpath.sim.sensing import sense
 
     pos = np.array([[10.0, 5.6]])
     now, prev = np.array([[8.4, 7.0]]), np.array([[7.9, 7.0]])

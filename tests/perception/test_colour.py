@@ -11,8 +11,8 @@ from swarmpath.perception import PixelFrame, colour_mask, find_regions, load_ima
 from swarmpath.perception.colour import centroids
 from swarmpath.perception.render import Palette, add_noise
 from swarmpath.rng import make_rng
-from swarmpath.sim.observation import Observation
-from swarmpath.sim.sensing import SensingConfig, sense
+from swarmpath.control.observation import Observation, SensingConfig
+from swarmpath.sim.sensing import sense
 from swarmpath.world import RectBounds, Robot, World, load_scenario
 from swarmpath.world.moving import Bounce, MovingObstacle
 from swarmpath.world.shapes import Circle

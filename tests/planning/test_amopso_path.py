@@ -17,7 +17,7 @@ from swarmpath.planning.amopso_path import AMOPSOPathPlanner, choose_from_front
 from swarmpath.planning.path_objectives import danger_distances, path_lengths
 from swarmpath.planning.reference_paths import visibility_shortest_path
 from swarmpath.registry import PLANNERS
-from swarmpath.sim import run_world
+from swarmpath.runner import run_world
 from swarmpath.testing import check_planner, validate_paths, validate_trajectory
 from swarmpath.world import Circle, Rect, RectBounds, Robot, World, load_scenario
 
@@ -184,12 +184,12 @@ def test_case2_acceptance(seed):
     assert result.planner == "amopso-path" and result.controller == "amopso-follow"
     assert validate_paths(w, result.plan.paths) == []
     s = result.summary
-    assert s["success"] and s["collisions"] == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
+    assert s.success and s.collisions == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
     assert validate_trajectory(w, result.trajectory) == []
-    for robot, rs in zip(w.robots, s["robots"]):
+    for robot, rs in zip(w.robots, s.robots):
         shortest = visibility_shortest_path(w, robot)[1]
-        assert rs["planned_length"] / shortest <= 1.1, (robot.id, rs["planned_length"], shortest)
-        assert rs["path_length"] / shortest <= 1.1, (robot.id, rs["path_length"], shortest)
+        assert rs.planned_length / shortest <= 1.1, (robot.id, rs.planned_length, shortest)
+        assert rs.path_length / shortest <= 1.1, (robot.id, rs.path_length, shortest)
 
 
 @pytest.mark.slow

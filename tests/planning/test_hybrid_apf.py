@@ -11,7 +11,7 @@ from swarmpath.planning.apf import APFPlanner
 from swarmpath.planning.astar import AStarPlanner
 from swarmpath.planning.hybrid_apf import HybridAPFPlanner
 from swarmpath.registry import PLANNERS
-from swarmpath.sim import run_world
+from swarmpath.runner import run_world
 from swarmpath.testing import check_planner, unreachable_world, validate_paths, validate_trajectory
 from swarmpath.world import load_scenario
 
@@ -92,7 +92,7 @@ def test_jaleel2016_acceptance(capsys):
 def test_following_a_repaired_path_in_the_simulator():
     w = load_scenario("apf-trap-u-shape")
     result = run_world(w, planner="hybrid-apf", controller="follow", seed=0)
-    assert result.summary["success"]
+    assert result.summary.success
     assert validate_trajectory(w, result.trajectory) == []
 
 

@@ -12,7 +12,8 @@ import pytest
 from swarmpath.control.cat_swarm import CatSwarmController
 from swarmpath.registry import PLANNERS
 from swarmpath.search import astar, distance_field
-from swarmpath.sim import Simulator, run_world
+from swarmpath.runner import run_world
+from swarmpath.sim import Simulator
 from swarmpath.testing import check_controller, validate_trajectory
 from swarmpath.world import (
     Bounce8,
@@ -42,8 +43,8 @@ def test_jaleel2016_every_robot_arrives_without_any_collision_for_20_seeds(plann
         result = run_world(world, planner=planner, controller="cat-swarm", seed=seed, clearance=False)
         traj = result.trajectory
         assert validate_trajectory(world, traj) == [], f"seed {seed}"
-        assert result.summary["collisions"] == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
-        assert result.summary["success"], f"seed {seed}: {result.summary['reached']} of 12 arrived"
+        assert result.summary.collisions == {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
+        assert result.summary.success, f"seed {seed}: {result.summary.reached} of 12 arrived"
         seek = traj.mode_names.index("seek") if "seek" in traj.mode_names else -1
         seek_share.append(float(np.mean(traj.modes == seek)))
     print(f"\njaleel2016 / {planner}: 20 of 20 seeds collision-free, every robot arrived; "
@@ -54,7 +55,7 @@ def test_jaleel2016_with_follow_collides() -> None:
     world = load_scenario("jaleel2016")
     planner = PLANNERS_FOR_JALEEL[0]
     found = [sum(run_world(world, planner=planner, controller="follow", seed=s, clearance=False)
-                 .summary["collisions"].values()) for s in range(3)]
+                 .summary.collisions.values()) for s in range(3)]
     print(f"\njaleel2016 / {planner} / follow: collisions per seed {found}")
     assert sum(found) > 0
 
@@ -112,10 +113,10 @@ def test_movingai_random_32_32_10_with_50_agents() -> None:
     for planner in ("astar", "none"):
         result = run_world(world, planner=planner, controller="cat-swarm", seed=0)
         assert validate_trajectory(world, result.trajectory) == []
-        assert result.summary["success"]
-        ratio = result.summary["sum_of_lengths"] / optimal
+        assert result.summary.success
+        ratio = result.summary.sum_of_lengths / optimal
         print(f"\nrandom-32-32-10, 50 agents, planner {planner}: success, collisions 0, "
-              f"sum of lengths / sum of optimal octile lengths = {ratio:.3f}, makespan {result.summary['makespan']}")
+              f"sum of lengths / sum of optimal octile lengths = {ratio:.3f}, makespan {result.summary.makespan}")
         assert ratio <= 1.3
 
 

@@ -10,7 +10,8 @@ import pytest
 from swarmpath.control.base import Controller
 from swarmpath.metrics.summary import run_summary
 from swarmpath.planning import plan
-from swarmpath.sim import Simulator, Trajectory, run_world
+from swarmpath.runner import run_world
+from swarmpath.sim import Simulator, Trajectory
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import RandomWalk, Rect, RectBounds, Robot, World
 from swarmpath.world.moving import MovingObstacle
@@ -63,7 +64,7 @@ def test_a_controller_that_never_moves_is_reported_as_deadlock() -> None:
     traj = Simulator(world, Still(), seed=0, max_steps=1000, deadlock_window=20).run()
     assert traj.status == "deadlock" and traj.n_steps == 20
     summary = run_summary(world, traj)
-    assert summary["deadlocks"] == 2 and not summary["success"]
+    assert summary.deadlocks == 2 and not summary.success
 
 
 def test_same_seed_same_trajectory_with_random_obstacles() -> None:

@@ -73,7 +73,7 @@ def synthetic():
 @pytest.fixture(scope="session")
 def jaleel_run():
     """One real run of the README's scenario (A* plans, plain path following: always available)."""
-    from swarmpath.sim.run import run_world
+    from swarmpath.runner import run_world
     from swarmpath.world import load_scenario
 
     return run_world(load_scenario("jaleel2016"), planner="astar", controller="follow", seed=0)

@@ -2,6 +2,7 @@
 (robot colours, obstacles, map raster, danger zones, collisions)."""
 from __future__ import annotations
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -107,7 +108,7 @@ def test_collisions_and_danger_zones_are_marked(synthetic, tmp_path, facts, colo
     assert colour_present(f["pixels"], style.CONTACT, tolerance=30, min_pixels=5)
     assert colour_present(f["pixels"], style.DANGER, tolerance=30, min_pixels=5)
     clean = synthetic(5, 20)
-    clean.contacts = []
+    clean = dataclasses.replace(clean, contacts=[])
     g = facts(style.save_figure(plot_trajectory(clean), tmp_path / "c.png"))
     assert not colour_present(g["pixels"], style.CONTACT, tolerance=10, min_pixels=5)
 

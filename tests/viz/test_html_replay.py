@@ -3,6 +3,7 @@ against robot names that look like markup. (The browser tests drive the page its
 from __future__ import annotations
 
 import base64
+import dataclasses
 import gzip
 import json
 import re
@@ -95,7 +96,7 @@ def test_payload_carries_modes_plans_contacts_and_map(synthetic):
 
 def test_modes_reported_from_a_later_step_are_aligned(synthetic):
     traj = synthetic(3, 10)
-    traj.modes = traj.modes[4:]                               # the controller began reporting at step 5
+    traj = dataclasses.replace(traj, modes=traj.modes[4:])    # the controller began reporting at step 5
     doc = replay_payload(traj)
     modes = np.frombuffer(gzip.decompress(base64.b64decode(doc["modes"])), np.int8).reshape(10, 3)
     assert np.all(modes[:4] == -1) and np.array_equal(modes[4:], traj.modes)

@@ -138,8 +138,8 @@ def run_case2(world, update: str, mode: str, init: str, seed: int, patience: int
     traj = Simulator(world, AMOPSOFollowController(patience=patience), plan, seed=seed).run()
     summary = run_summary(world, traj, plan, clearance=False)
     planned = np.array([r.length if r else np.nan for r in plan.robots], float)
-    run = Case2Run(planned, executed_lengths(traj.positions), cpu, bool(summary["success"]),
-                   int(sum(summary["collisions"].values())), summary["makespan"],
+    run = Case2Run(planned, executed_lengths(traj.positions), cpu, summary.success,
+                   summary.contacts, summary.makespan,
                    sum(1 for e in traj.events if e.get("kind") == "sidestep"), list(plan.paths),
                    np.asarray(traj.positions))
     return run, plan

@@ -35,11 +35,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.observation import Observation
 from swarmpath.control.path_tracking import advance_along
 from swarmpath.errors import ConfigError
-from swarmpath.planning.base import Capabilities
+from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
 from swarmpath.world import geometry as g
+from swarmpath.planning.base import Plan
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 
@@ -115,7 +118,7 @@ class AMOPSOFollowController(Controller):
         self.separation = float(separation)
         self.patience = int(patience)
 
-    def reset(self, world, plan, rng: np.random.Generator) -> None:
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         if plan is None:
             raise ConfigError("controller 'amopso-follow' needs an offline plan (choose a planner)")
         self.world_ = world
@@ -148,7 +151,7 @@ class AMOPSOFollowController(Controller):
         return not bad.any()
 
     # ------------------------------------------------------------------ the step
-    def act(self, obs) -> Decision:
+    def act(self, obs: Observation) -> Decision:
         pos = np.asarray(obs.positions, float)
         n = len(pos)
         new = pos.copy()

@@ -1,7 +1,7 @@
 """The controller interface: online, per-step policies that choose robots' next positions.
 
 ``reset(world, plan, rng)`` prepares a run; ``act(observation)`` returns the next position of
-every robot (or a :class:`Decision` that also names each robot's behaviour). A controller
+every robot as a :class:`Decision` (which may also name each robot's behaviour). A controller
 never moves obstacles and never decides whether a collision happened: the simulator does.
 """
 from __future__ import annotations
@@ -13,7 +13,10 @@ from typing import ClassVar, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.planning.base import Capabilities
+from swarmpath.capabilities import Capabilities
+from swarmpath.control.observation import Observation
+from swarmpath.planning.base import Plan
+from swarmpath.world.world import World
 
 
 @dataclass(frozen=True)
@@ -27,15 +30,19 @@ class Decision:
 
 
 class Controller(abc.ABC):
-    """Base class of controllers (register subclasses with ``@register_controller``)."""
+    """Base class of controllers (register subclasses with ``@register_controller``).
+
+    Constructors store hyperparameters only; everything a run creates is set in ``reset``
+    (names with a trailing underscore), so one configured controller runs many worlds and
+    seeds."""
 
     capabilities: ClassVar[Capabilities] = Capabilities()
     registered_name: ClassVar[str] = ""
 
     @abc.abstractmethod
-    def reset(self, world, plan, rng: np.random.Generator) -> None:
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         """Prepare a run of ``world`` with the offline ``plan`` (None without a planner)."""
 
     @abc.abstractmethod
-    def act(self, observation) -> "Decision | NDArray[np.float64]":
-        """Next positions of all robots, shape (n_robots, 2), or a :class:`Decision`."""
+    def act(self, obs: Observation) -> Decision:
+        """The next positions of all robots, shape (n_robots, 2), as a :class:`Decision`."""

@@ -34,18 +34,21 @@ from scipy.spatial import cKDTree
 
 from swarmpath.control import cat_swarm_kernels as K
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.observation import CLASS_INDEX, Observation
 from swarmpath.control.cell_paths import plan_cells, remaining_lengths
 from swarmpath.control.deadlock import DeadlockMonitor, priority_order
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.reservation import reserve_moves
 from swarmpath.errors import ConfigError
-from swarmpath.planning.base import Capabilities
+from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
 from swarmpath.search import distance_field
 from swarmpath.world import geometry as geo
+from swarmpath.planning.base import Plan
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
-CLASS_INDEX = {"short": 0, "medium": 1, "long": 2, "very long": 3}
+
 OFFSET_INDEX = np.zeros((3, 3), np.int64)
 for _k, (_dx, _dy) in enumerate(K.OFFSETS):
     OFFSET_INDEX[_dx + 1, _dy + 1] = _k
@@ -114,7 +117,7 @@ class CatSwarmController(Controller):
         if self.patience < 1 or self.report_after < 1:
             raise ConfigError("cat-swarm: patience and report_after must be >= 1")
 
-    def reset(self, world, plan, rng: np.random.Generator) -> None:
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self._check_parameters()
         n = world.n_robots
         res = world.resolution
@@ -247,7 +250,7 @@ class CatSwarmController(Controller):
         return pairs[both], robot_conflict & active, obstacle_alert & active
 
     # ------------------------------------------------------------------ act
-    def act(self, obs) -> Decision:
+    def act(self, obs: Observation) -> Decision:
         n = obs.n_robots
         if n == 0:
             return Decision(obs.positions.copy(), [])

@@ -33,12 +33,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.observation import Observation
 from swarmpath.errors import ConfigError
-from swarmpath.planning.base import Capabilities
+from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
 from swarmpath.search import DistanceFieldCache
 from swarmpath.world import geometry as g
 from swarmpath.world.shapes import Rect
+from swarmpath.planning.base import Plan
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -236,7 +239,7 @@ class FishSwarmController(Controller):
         self.avoid_next = bool(avoid_next)
 
     # ------------------------------------------------------------------ run state
-    def reset(self, world, plan, rng: np.random.Generator) -> None:
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self.world_ = world
         self.rng_ = rng
         self.grids_ = [world.grid(radius=r.radius) for r in world.robots]
@@ -266,7 +269,7 @@ class FishSwarmController(Controller):
         return food_euclidean(grid.centers(cells), self.world_.robots[i].goal)
 
     # ------------------------------------------------------------------ one step
-    def act(self, obs) -> Decision:
+    def act(self, obs: Observation) -> Decision:
         n = obs.positions.shape[0]
         pos = obs.positions
         new = pos.copy()

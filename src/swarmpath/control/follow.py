@@ -5,10 +5,13 @@ from __future__ import annotations
 import numpy as np
 
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.observation import Observation
 from swarmpath.control.path_tracking import advance_along
 from swarmpath.errors import ConfigError
-from swarmpath.planning.base import Capabilities
+from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
+from swarmpath.planning.base import Plan
+from swarmpath.world.world import World
 
 
 @register_controller("follow")
@@ -18,14 +21,14 @@ class FollowController(Controller):
 
     capabilities = Capabilities(needs_plan=True, multi_robot=False)
 
-    def reset(self, world, plan, rng: np.random.Generator) -> None:
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         if plan is None:
             raise ConfigError("controller 'follow' needs an offline plan (choose a planner)")
         self.paths_ = [p if p is not None else np.asarray([r.start], float) for p, r in zip(plan.paths, world.robots)]
         self.next_vertex_ = np.ones(world.n_robots, dtype=np.int64)
         self.budget_ = world.max_speeds * world.dt
 
-    def act(self, obs) -> Decision:
+    def act(self, obs: Observation) -> Decision:
         new = obs.positions.copy()
         for i, path in enumerate(self.paths_):
             new[i], self.next_vertex_[i] = advance_along(path, obs.positions[i], int(self.next_vertex_[i]),

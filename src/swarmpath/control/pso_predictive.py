@@ -53,10 +53,13 @@ from numpy.typing import NDArray
 
 from swarmpath.control import prediction as pred
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.observation import Observation
 from swarmpath.errors import ConfigError
-from swarmpath.planning.base import Capabilities
+from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
 from swarmpath.world import geometry as g
+from swarmpath.planning.base import Plan
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -518,7 +521,7 @@ class PredictivePSOController(Controller):
             raise ConfigError("swarm needs n_particles >= 1 and n_iterations >= 1")
 
     # -------------------------------------------------------------- run state
-    def reset(self, world, plan, rng: np.random.Generator) -> None:
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self.world_ = world
         self.static_ = static_geometry(world)
         self.rng_ = rng
@@ -655,7 +658,7 @@ class PredictivePSOController(Controller):
                            path_end=path_end, buffer=buffer,
                            obstacle_clear=clear, obstacle_mask=obstacle_mask, static_near=static_near)
 
-    def act(self, obs) -> Decision:
+    def act(self, obs: Observation) -> Decision:
         pos = np.asarray(obs.positions, float)
         n = len(pos)
         if n == 0:

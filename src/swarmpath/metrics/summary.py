@@ -1,14 +1,21 @@
-"""The run summary of ``swarmpath run --json`` (field names fixed by DESIGN.md)."""
+"""The run summary of ``swarmpath run --json``: a frozen :class:`RunSummary` built from a
+trajectory (field names of the JSON form are part of the stable command line).
+
+``success`` is honest: every robot at its goal at the end AND no contact of any kind;
+``safe`` says the second half alone, and :meth:`RunSummary.verdict` says in words why a run
+is not a success.
+"""
 from __future__ import annotations
 
-from typing import Any
+from dataclasses import dataclass, field
+from typing import Any, Mapping
 
 
 from swarmpath.metrics.clearance import min_clearance
 from swarmpath.metrics.paths import arrival_steps, executed_lengths, first_arrival_steps, waiting_steps
 from swarmpath.sim.collisions import ROBOT_MOVING, ROBOT_ROBOT, ROBOT_STATIC
-from swarmpath.sim.simulator import distinct_positions
-from swarmpath.sim.trajectory import Trajectory
+from swarmpath.sim.progress import distinct_positions
+from swarmpath.sim.trajectory import Termination, Trajectory
 
 
 def collisions_by_kind(traj: Trajectory) -> dict[str, int]:
@@ -31,9 +38,99 @@ def deadlocked_robots(traj: Trajectory, window: int = 60) -> list[int]:
     return [i for i, c in zip(unfinished, counts) if c <= 2]
 
 
+@dataclass(frozen=True)
+class RobotOutcome:
+    """One robot's outcome: executed and planned lengths (world units), the step after which
+    it stays at its goal (None if it is not there at the end), the first step it stood there,
+    and the steps it stood still away from its goal."""
+
+    id: str
+    reached: bool
+    path_length: float
+    planned_length: float | None
+    arrival_step: int | None
+    first_arrival_step: int | None
+    waits: int
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"id": self.id, "reached": self.reached, "path_length": self.path_length,
+                "planned_length": self.planned_length, "arrival_step": self.arrival_step,
+                "first_arrival_step": self.first_arrival_step, "waits": self.waits}
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """Everything ``swarmpath run`` reports about one run (see :meth:`to_dict` for the JSON)."""
+
+    scenario: str
+    planner: str | None
+    controller: str | None
+    seed: int
+    status: Termination
+    steps: int
+    reached: int
+    reached_once: int
+    n_robots: int
+    collisions: Mapping[str, int]
+    deadlocks: int
+    invalid_moves: int
+    sum_of_lengths: float
+    makespan: int | None
+    sum_of_arrival_steps: int | None
+    min_clearance: float | None
+    planning_time_s: float
+    sim_time_s: float
+    robots: tuple[RobotOutcome, ...] = field(default_factory=tuple)
+
+    @property
+    def contacts(self) -> int:
+        """Contacts of all kinds."""
+        return int(sum(self.collisions.values()))
+
+    @property
+    def safe(self) -> bool:
+        """No contact of any kind happened."""
+        return self.contacts == 0
+
+    @property
+    def all_reached(self) -> bool:
+        """Every robot stands on its goal at the end."""
+        return self.reached == self.n_robots
+
+    @property
+    def success(self) -> bool:
+        """Every robot at its goal at the end AND zero contacts."""
+        return self.all_reached and self.safe
+
+    def verdict(self) -> str:
+        """"success", or why not, in words ("3 of 12 robots not at their goals; 2 contacts")."""
+        if self.success:
+            return "success"
+        reasons = []
+        if not self.all_reached:
+            reasons.append(f"{self.n_robots - self.reached} of {self.n_robots} robots not at their goals "
+                           f"({self.status.value})")
+        if not self.safe:
+            reasons.append(f"{self.contacts} contact{'s' if self.contacts != 1 else ''}")
+        return "; ".join(reasons)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON object of ``swarmpath run --json``."""
+        return {
+            "scenario": self.scenario, "planner": self.planner, "controller": self.controller, "seed": self.seed,
+            "success": self.success, "safe": self.safe, "status": self.status.value, "steps": self.steps,
+            "makespan": self.makespan, "sum_of_lengths": self.sum_of_lengths,
+            "sum_of_arrival_steps": self.sum_of_arrival_steps, "reached": self.reached,
+            "reached_once": self.reached_once, "n_robots": self.n_robots, "collisions": dict(self.collisions),
+            "deadlocks": self.deadlocks, "invalid_moves": self.invalid_moves, "min_clearance": self.min_clearance,
+            "planning_time_s": self.planning_time_s, "sim_time_s": self.sim_time_s,
+            "robots": [r.to_dict() for r in self.robots],
+        }
+
+
 def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = None, controller: str | None = None,
-                planning_time_s: float = 0.0, clearance: bool = True) -> dict[str, Any]:
-    """The JSON-ready summary of one run."""
+                planning_time_s: float = 0.0, clearance: bool = True) -> RunSummary:
+    """The summary of one run of ``world`` recorded in ``traj`` (with its offline ``plan``)."""
     lengths = executed_lengths(traj.positions)
     arrivals = arrival_steps(traj.positions, traj.goals)
     waits = waiting_steps(traj.positions, traj.goals)
@@ -44,21 +141,18 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
         planned = None
         if plan is not None and i < len(plan.robots):
             planned = plan.robots[i].length
-        robots.append({"id": rid, "reached": reached[i], "path_length": float(lengths[i]),
-                       "planned_length": planned, "arrival_step": arrivals[i], "first_arrival_step": first[i],
-                       "waits": int(waits[i])})
-    success = all(reached)
-    collisions = collisions_by_kind(traj)
-    return {
-        "scenario": traj.scenario, "planner": planner, "controller": controller, "seed": traj.seed,
-        "success": bool(success), "status": traj.status, "steps": traj.n_steps,
-        "makespan": max((a for a in arrivals if a is not None), default=0) if success else None,
-        "sum_of_lengths": float(lengths.sum()),
-        "sum_of_arrival_steps": int(sum(a for a in arrivals if a is not None)) if success else None,
-        "reached": int(sum(reached)), "reached_once": sum(f is not None for f in first), "n_robots": len(reached),
-        "collisions": collisions, "deadlocks": len(deadlocked_robots(traj)),
-        "invalid_moves": sum(1 for e in traj.events if e.get("kind") == "invalid_move"),
-        "min_clearance": float(min_clearance(world, traj.positions, traj.obstacle_positions)) if clearance else None,
-        "planning_time_s": float(planning_time_s), "sim_time_s": float(traj.meta.get("sim_time_s", 0.0)),
-        "robots": robots,
-    }
+        robots.append(RobotOutcome(rid, reached[i], float(lengths[i]), planned, arrivals[i], first[i], int(waits[i])))
+    everyone = all(reached)
+    clearance_value = None
+    if clearance and traj.n_robots:
+        clearance_value = float(min_clearance(world, traj.positions, traj.obstacle_positions))
+    return RunSummary(
+        scenario=traj.scenario, planner=planner, controller=controller, seed=traj.seed, status=traj.status,
+        steps=traj.n_steps, reached=int(sum(reached)), reached_once=sum(f is not None for f in first),
+        n_robots=len(reached), collisions=collisions_by_kind(traj), deadlocks=len(deadlocked_robots(traj)),
+        invalid_moves=sum(1 for e in traj.events if e.get("kind") == "invalid_move"),
+        sum_of_lengths=float(lengths.sum()),
+        makespan=max((a for a in arrivals if a is not None), default=0) if everyone else None,
+        sum_of_arrival_steps=int(sum(a for a in arrivals if a is not None)) if everyone else None,
+        min_clearance=clearance_value, planning_time_s=float(planning_time_s),
+        sim_time_s=float(traj.meta.get("sim_time_s", 0.0)), robots=tuple(robots))

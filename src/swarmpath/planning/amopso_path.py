@@ -49,7 +49,8 @@ from numpy.typing import NDArray
 from swarmpath.errors import ConfigError
 from swarmpath.optim.mopso import MODES, MOPSO, UPDATE_RULES, check_weights
 from swarmpath.optim.problem import Problem
-from swarmpath.planning.base import Capabilities, Plan, Planner, PlanStatus, RobotPlan
+from swarmpath.capabilities import Capabilities
+from swarmpath.planning.base import Plan, Planner, PlanStatus, RobotPlan
 from swarmpath.planning.path_objectives import (
     danger_clearance,
     danger_distances,

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import time
 
-from swarmpath.planning.base import Capabilities, Plan, Planner, PlanStatus, RobotPlan
+from swarmpath.capabilities import Capabilities
+from swarmpath.planning.base import Plan, Planner, PlanStatus, RobotPlan
 from swarmpath.planning.grid_paths import cells_to_polyline
 from swarmpath.registry import register_planner
 from swarmpath.search import astar

@@ -13,6 +13,7 @@ from typing import Any, ClassVar, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmpath.capabilities import Capabilities
 from swarmpath.types import SeedLike
 
 
@@ -68,19 +69,6 @@ class Plan:
 
     def __getitem__(self, i: int) -> RobotPlan:
         return self.robots[i]
-
-
-@dataclass(frozen=True)
-class Capabilities:
-    """What a planner or controller handles; the CLI, checkers and benchmarks consult it."""
-
-    needs_plan: bool = False          # controllers: needs an offline plan
-    grid_based: bool = False          # moves between grid cell centres
-    continuous: bool = False          # moves anywhere within its speed
-    moving_obstacles: bool = False    # avoids moving obstacles
-    multi_robot: bool = True          # avoids other robots
-    randomized: bool = False          # result depends on the seed
-    multi_objective: bool = False     # planners: optimises several objectives
 
 
 class Planner(abc.ABC):

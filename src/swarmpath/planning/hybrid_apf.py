@@ -19,7 +19,8 @@ import numpy as np
 
 from swarmpath.errors import ConfigError
 from swarmpath.planning.apf import _check_budget, apf_robot
-from swarmpath.planning.base import Capabilities, Plan, Planner, PlanStatus, RobotPlan
+from swarmpath.capabilities import Capabilities
+from swarmpath.planning.base import Plan, Planner, PlanStatus, RobotPlan
 from swarmpath.planning.grid_paths import cells_to_polyline
 from swarmpath.planning.potential_field import FieldParameters
 from swarmpath.registry import register_planner

@@ -19,8 +19,9 @@ from swarmpath.control.base import Controller, Decision
 from swarmpath.errors import ConfigError
 from swarmpath.rng import make_rng
 from swarmpath.sim.collisions import step_contacts
-from swarmpath.sim.observation import Observation
-from swarmpath.sim.sensing import SensingConfig, sense
+from swarmpath.control.observation import Observation, SensingConfig
+from swarmpath.sim.progress import distinct_positions
+from swarmpath.sim.sensing import sense
 from swarmpath.sim.trajectory import ALL_REACHED, DEADLOCK, TRUNCATED, Trajectory
 from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
 
@@ -155,10 +156,3 @@ class Simulator:
             return False
         return bool(np.all(distinct_positions(window[:, unfinished]) <= 2))
 
-
-def distinct_positions(window: np.ndarray) -> np.ndarray:
-    """Number of distinct positions each robot took in ``window`` (shape (k, n, 2))."""
-    keys = np.round(window * 1e6).astype(np.int64)
-    keys = keys[..., 0] * 4_000_000_007 + keys[..., 1]
-    keys.sort(axis=0)
-    return 1 + np.count_nonzero(np.diff(keys, axis=0), axis=0)

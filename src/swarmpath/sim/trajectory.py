@@ -5,6 +5,7 @@ static map) so that metrics, figures and the HTML replay need nothing else.
 """
 from __future__ import annotations
 
+import enum
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,10 +19,23 @@ from swarmpath.sim.collisions import Contact
 
 FloatArray = NDArray[np.float64]
 
-ALL_REACHED, TRUNCATED, DEADLOCK = "all_reached", "truncated", "deadlock"
+class Termination(str, enum.Enum):
+    """Why a run ended (Gymnasium's terminated vs truncated, plus a stall): every robot at its
+    goal, the step budget spent, or the robots that had not arrived stopped making progress.
+    The values are the strings of the JSON output (a ``str`` enum compares equal to them)."""
+
+    ALL_REACHED = "all_reached"
+    TRUNCATED = "truncated"
+    DEADLOCK = "deadlock"
+
+    def __str__(self) -> str:
+        return self.value
 
 
-@dataclass
+ALL_REACHED, TRUNCATED, DEADLOCK = Termination.ALL_REACHED, Termination.TRUNCATED, Termination.DEADLOCK
+
+
+@dataclass(frozen=True, eq=False)
 class Trajectory:
     """Positions of every robot and moving obstacle at every step, and what happened.
 
@@ -33,7 +47,7 @@ class Trajectory:
     events : other notable things (invalid moves, deadlock resolutions, ...), dicts with
         at least "step" and "kind"
     planned_paths : the offline plan of each robot (None without a planner)
-    status : "all_reached", "truncated" (step budget) or "deadlock"
+    status : why the run ended (:class:`Termination`)
     world : the scenario dict of the world (``World.to_dict()``), ``static_map`` its raster
     """
 
@@ -52,10 +66,17 @@ class Trajectory:
     modes: NDArray[np.int8] | None = None
     mode_names: list[str] = field(default_factory=list)
     planned_paths: list[FloatArray | None] = field(default_factory=list)
-    status: str = TRUNCATED
+    status: Termination = TRUNCATED
     world: dict = field(default_factory=dict)
     static_map: NDArray[np.bool_] | None = None
     meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        try:
+            object.__setattr__(self, "status", Termination(self.status))
+        except ValueError:
+            raise SwarmpathError(f"unknown trajectory status {self.status!r}; expected one of "
+                                 f"{', '.join(t.value for t in Termination)}") from None
 
     @property
     def n_steps(self) -> int:
@@ -71,7 +92,7 @@ class Trajectory:
             "format": "swarmpath-trajectory", "version": 1, "scenario": self.scenario, "seed": self.seed,
             "dt": self.dt, "resolution": self.resolution, "robot_ids": self.robot_ids,
             "obstacle_ids": self.obstacle_ids, "contacts": [c.to_dict() for c in self.contacts],
-            "events": self.events, "mode_names": self.mode_names, "status": self.status,
+            "events": self.events, "mode_names": self.mode_names, "status": self.status.value,
             "world": self.world, "meta": self.meta,
         }
 

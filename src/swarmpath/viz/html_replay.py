@@ -105,7 +105,7 @@ def replay_payload(traj: Any, *, sensing_range: float | None = None, title: str 
     if sensing_range is None:
         sensing_range = meta.get("sensing_range")
     if sensing_range is None:
-        from swarmpath.sim.sensing import SensingConfig
+        from swarmpath.control.observation import SensingConfig
 
         sensing_range = SensingConfig().range * traj.resolution
     modes = _padded_modes(traj)

@@ -24,13 +24,13 @@ FIELD_PLANNERS = ("apf", "hybrid-apf")
 
 def write_run_outputs(out_dir: str | Path, result: Any, *, figures: bool = True, animation: bool = True,
                       replay: bool = True, progress: Callable[[int, int], None] | None = None) -> list[Path]:
-    """Write the files listed in the module docstring for a :class:`~swarmpath.sim.RunResult`;
+    """Write the files listed in the module docstring for a :class:`~swarmpath.runner.RunResult`;
     returns their paths. ``progress(done, total)`` follows the animation's frames."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     written = []
     summary_path = out / "summary.json"
-    summary_path.write_text(json.dumps(result.summary, indent=2, default=_json_default), encoding="utf-8")
+    summary_path.write_text(json.dumps(result.summary.to_dict(), indent=2, default=_json_default), encoding="utf-8")
     written.append(summary_path)
     traj = result.trajectory
     written.append(traj.save(out / "trajectory.npz"))

@@ -1,32 +1,42 @@
-"""``simulate`` and ``run_world``: the front doors that tie planner, controller and simulator
-together for one seed."""
+"""The front doors that tie planner, controller, simulator and metrics together for one seed:
+:func:`simulate` (a controller on a world) and :func:`run_world` (plan, simulate, summarise).
+
+This module sits above the simulator and the metrics, so neither of them needs the other's
+caller: sim produces a :class:`~swarmpath.sim.trajectory.Trajectory`, metrics reads it, and
+the runner joins them into a :class:`RunResult`.
+"""
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Callable
 
+from swarmpath.control.base import Controller
+from swarmpath.control.observation import SensingConfig
 from swarmpath.errors import ConfigError
+from swarmpath.metrics.summary import RunSummary, run_summary
 from swarmpath.planning.base import Plan
 from swarmpath.registry import CONTROLLERS, PLANNERS
-from swarmpath.sim.sensing import SensingConfig
 from swarmpath.sim.simulator import Simulator
 from swarmpath.sim.trajectory import Trajectory
+from swarmpath.world.world import World
 
 
 @dataclass(frozen=True)
 class RunResult:
-    """Everything one run produced."""
+    """Everything one run produced: the world, the offline plan (None without a planner),
+    the trajectory and its summary, and the names of the planner and controller used."""
 
-    world: Any
+    world: World
     plan: Plan | None
     trajectory: Trajectory
-    summary: dict
+    summary: RunSummary
     planner: str | None
     controller: str
 
 
-def choose_pair(world, planner: str | None, controller: str | None) -> tuple[str | None, str]:
+def choose_pair(world: World, planner: str | None, controller: str | None) -> tuple[str, str]:
     """The planner and controller to use: the ones given, else the scenario's defaults, else
     a sensible choice (cat swarm on a grid for point robots, predictive PSO for discs)."""
     controller = controller or world.defaults.get("controller")
@@ -44,21 +54,20 @@ def choose_pair(world, planner: str | None, controller: str | None) -> tuple[str
     return planner, controller
 
 
-def simulate(world, controller, plan: Plan | None = None, *, seed: int = 0, max_steps: int | None = None,
-             sensing: SensingConfig | None = None, progress: Callable[[int, int], None] | None = None) -> Trajectory:
-    """Run ``controller`` (a name or a configured Controller) on ``world``."""
+def simulate(world: World, controller: str | Controller, plan: Plan | None = None, *, seed: int = 0,
+             max_steps: int | None = None, sensing: SensingConfig | None = None,
+             progress: Callable[[int, int], None] | None = None) -> Trajectory:
+    """Run ``controller`` (a registered name or a configured Controller) on ``world``."""
     if isinstance(controller, str):
         controller = CONTROLLERS.get(controller)()
     return Simulator(world, controller, plan, seed=seed, max_steps=max_steps, sensing=sensing,
                      progress=progress).run()
 
 
-def run_world(world, *, planner: str | None = None, controller: str | None = None, seed: int = 0,
+def run_world(world: World, *, planner: str | None = None, controller: str | None = None, seed: int = 0,
               max_steps: int | None = None, sensing: SensingConfig | None = None,
               progress: Callable[[int, int], None] | None = None, clearance: bool = True) -> RunResult:
     """Plan (if the pair needs it), simulate and summarise one run."""
-    from swarmpath.metrics.summary import run_summary
-
     planner, controller = choose_pair(world, planner, controller)
     plan = None
     planning_time = 0.0
@@ -69,7 +78,7 @@ def run_world(world, *, planner: str | None = None, controller: str | None = Non
         if not plan.robots:
             plan = None
     traj = simulate(world, controller, plan, seed=seed, max_steps=max_steps, sensing=sensing, progress=progress)
-    traj.meta["planning_time_s"] = planning_time
+    traj = dataclasses.replace(traj, meta={**traj.meta, "planning_time_s": planning_time})
     summary = run_summary(world, traj, plan, planner=planner, controller=controller, planning_time_s=planning_time,
                           clearance=clearance)
     return RunResult(world, plan, traj, summary, planner, controller)
