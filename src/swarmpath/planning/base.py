@@ -30,12 +30,18 @@ class PlanStatus(enum.Enum):
 
 @dataclass(frozen=True)
 class RobotPlan:
-    """The plan of one robot: ``path`` of shape (n_points, 2) in world units, or None."""
+    """The plan of one robot: ``path`` of shape (n_points, 2) in world units, or None.
+
+    ``times`` (n_points,) makes the plan timed: the robot stands on ``path[k]`` at step
+    ``times[k]`` (non-decreasing integers, a repeated vertex is a wait). Multi-robot planners
+    that coordinate robots in time (``lacam``) return timed plans; untimed polylines leave it
+    None and are followed at the robot's speed."""
 
     robot_id: str
     status: PlanStatus
     path: NDArray[np.float64] | None = None
     diagnostics: Mapping[str, Any] = field(default_factory=dict)
+    times: NDArray[np.int64] | None = None
 
     def __bool__(self) -> bool:
         return self.path is not None and self.status in (PlanStatus.EXACT, PlanStatus.APPROXIMATE)

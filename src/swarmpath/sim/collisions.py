@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from swarmpath.world import geometry as g
+from swarmpath.world.move_rules import KIND_NAMES, move_conflicts
 from swarmpath.world.shapes import Circle
 
 FloatArray = NDArray[np.float64]
@@ -48,7 +49,8 @@ class Contact:
 
 def robot_robot_contacts(p0: FloatArray, p1: FloatArray, radii: FloatArray, resolution: float
                          ) -> list[tuple[int, int, str]]:
-    """Robot pairs (i < j) that collide while moving from ``p0`` to ``p1`` (both (n, 2))."""
+    """Robot pairs (i < j) that collide while moving from ``p0`` to ``p1`` (both (n, 2)), by
+    the move rules of :mod:`swarmpath.world.move_rules`, with the kind of each contact."""
     n = len(p0)
     if n < 2:
         return []
@@ -58,21 +60,8 @@ def robot_robot_contacts(p0: FloatArray, p1: FloatArray, radii: FloatArray, reso
     if len(pairs) == 0:
         return []
     i, j = pairs[:, 0], pairs[:, 1]
-    d = g.relative_min_distance(p0[i], p1[i], p0[j], p1[j])
-    rsum = radii[i] + radii[j]
-    overlap = np.where(rsum > 0, d < rsum - g.EPS, d < g.EPS)
-    both_points = (radii[i] == 0) & (radii[j] == 0)
-    c0 = np.floor(p0 / resolution + 1e-9).astype(np.int64)
-    c1 = np.floor(p1 / resolution + 1e-9).astype(np.int64)
-    same_cell = both_points & np.all(c1[i] == c1[j], axis=1)
-    swap = both_points & np.all(c1[i] == c0[j], axis=1) & np.all(c1[j] == c0[i], axis=1) & \
-        np.any(c0[i] != c0[j], axis=1)
-    end_overlap = np.linalg.norm(p1[i] - p1[j], axis=1) < np.where(rsum > 0, rsum - g.EPS, g.EPS)
-    out = []
-    for k in np.flatnonzero(overlap | same_cell | swap):
-        detail = "swap" if swap[k] else ("vertex" if (same_cell[k] or end_overlap[k]) else "crossing")
-        out.append((int(i[k]), int(j[k]), detail))
-    return sorted(out)
+    kind = move_conflicts(p0[i], p1[i], p0[j], p1[j], radii[i], radii[j], resolution)
+    return sorted((int(i[k]), int(j[k]), KIND_NAMES[kind[k]]) for k in np.flatnonzero(kind))
 
 
 def robot_static_contacts(world, p0: FloatArray, p1: FloatArray, radii: FloatArray) -> list[tuple[int, str]]:
