@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from swarmpath.registry import CONTROLLERS, OPTIMIZERS, PLANNERS, REPRODUCTIONS
-from swarmpath.testing import check_controller, check_optimizer, check_planner
+from swarmpath.registry import CONTROLLERS, MOTIONS, OPTIMIZERS, PLANNERS, REPRODUCTIONS
+from swarmpath.testing import check_controller, check_motion, check_optimizer, check_planner
 
 
 @pytest.mark.parametrize("name", [n for n in PLANNERS.names() if n != "none"])
@@ -31,8 +31,14 @@ def test_optimizer_conforms(name: str) -> None:
     assert check_optimizer(OPTIMIZERS.get(name)) == []
 
 
+@pytest.mark.parametrize("name", MOTIONS.names())
+def test_motion_conforms(name: str) -> None:
+    assert check_motion(MOTIONS.get(name).example()) == []
+
+
 def test_the_stable_names_are_registered() -> None:
     assert {"astar", "apf", "hybrid-apf", "amopso-path", "none"} <= set(PLANNERS.names())
     assert {"follow", "cat-swarm", "pso-predictive", "pso-reactive", "fish-swarm"} <= set(CONTROLLERS.names())
     assert {"pso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso", "cso", "afsa"} <= set(OPTIMIZERS.names())
     assert {"jaleel2016", "prediction2013", "karim2014", "amopso-benchmarks", "amopso-paths"} <= set(REPRODUCTIONS.names())
+    assert {"bounce", "bounce8", "turn-every", "random-walk", "redraw", "waypoints"} <= set(MOTIONS.names())

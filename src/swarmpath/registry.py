@@ -82,9 +82,11 @@ CONTROLLERS: Registry[Any] = Registry("controller", "swarmpath.control")
 OPTIMIZERS: Registry[Any] = Registry("optimizer", "swarmpath.optim")
 FUNCTIONS: Registry[Any] = Registry("function", "swarmpath.optim")
 REPRODUCTIONS: Registry[Any] = Registry("reproduction", "swarmpath.bench")
+MOTIONS: Registry[Any] = Registry("motion", "swarmpath.world.motions")
 
 register_planner = PLANNERS.register
 register_controller = CONTROLLERS.register
 register_optimizer = OPTIMIZERS.register
 register_function = FUNCTIONS.register
 register_reproduction = REPRODUCTIONS.register
+register_motion = MOTIONS.register

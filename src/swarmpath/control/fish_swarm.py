@@ -39,6 +39,7 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
 from swarmpath.search import DistanceFieldCache
 from swarmpath.world import geometry as g
+from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Rect
 from swarmpath.planning.base import Plan
 from swarmpath.world.world import World
@@ -191,15 +192,10 @@ def fish_decision(robot_cell: ArrayLike, robot_food: float, candidate_cells: Arr
 
 
 # ---------------------------------------------------------------------------------- adapter
-def _max_obstacle_step(world, ob) -> float:
-    """Longest move an obstacle can make in one step (world units); 0 for ``redraw``, which
-    never reappears on a robot's cell (world/moving.py)."""
-    kind = ob.motion.kind
-    if kind == "redraw":
-        return 0.0
-    if kind == "random-walk":
-        return float(np.sqrt(2.0) * (ob.speed or world.resolution) * world.dt)
-    return float(ob.speed * world.dt)
+def _max_obstacle_step(world: World, ob: MovingObstacle) -> float:
+    """Longest move an obstacle can make in one step (world units, its motion model's worst
+    case); 0 for a model that teleports (``redraw``), whose next position is unknown."""
+    return 0.0 if ob.motion.teleports else ob.max_step(world.dt, world.resolution)
 
 
 @register_controller("fish-swarm")

@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.world.moving import Bounce, Bounce8, MovingObstacle, RandomWalk, Redraw
+from swarmpath.world.motions import FORECASTS
+from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle
 
 FloatArray = NDArray[np.float64]
@@ -30,7 +31,8 @@ BoolArray = NDArray[np.bool_]
 GRID_DIRECTIONS = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1]], float)
 UNIT_DIRECTIONS = GRID_DIRECTIONS / np.linalg.norm(GRID_DIRECTIONS, axis=1, keepdims=True)
 BOUNCE_FLIPS = np.array([[-1.0, 1.0], [1.0, -1.0], [-1.0, -1.0]])
-BOUNCE, BOUNCE8, RANDOM_WALK, REDRAW, ANY_HEADING = 0, 1, 2, 3, 4
+#: Forecast classes of motion models (``Motion.forecast``), as codes.
+BOUNCE, BOUNCE8, RANDOM_WALK, REDRAW, ANY_HEADING = (FORECASTS.index(name) for name in FORECASTS)
 _MOVING = 1e-9
 N_SLOTS = 10  # 0: stay, 1: straight on, 2-9: the 8 directions (or the 3 bounce reflections)
 
@@ -44,19 +46,11 @@ def footprint_box(ob: MovingObstacle) -> tuple[FloatArray, FloatArray]:
 
 
 def motion_code(ob: MovingObstacle) -> int:
-    """How predictable the model is: straight with reflections (bounce), straight with a
-    random new direction (bounce8), a random grid step every time (random-walk), a jump that
-    avoids robots' cells (redraw), or any heading (turn-every, waypoints)."""
-    m = ob.motion
-    if isinstance(m, Bounce8):
-        return BOUNCE8
-    if isinstance(m, Bounce):
-        return BOUNCE
-    if isinstance(m, RandomWalk):
-        return RANDOM_WALK
-    if isinstance(m, Redraw):
-        return REDRAW
-    return ANY_HEADING
+    """How predictable the obstacle's motion model says it is (``Motion.forecast``): straight
+    with reflections (bounce), straight with a random new direction (bounce8), a random grid
+    step every time (random-walk), a jump that avoids robots' cells (teleport), or any heading
+    within its one-step reach (any-heading: turn-every, waypoints, and new models)."""
+    return FORECASTS.index(ob.motion.forecast)
 
 
 def box_cell_ranges(lo: FloatArray, hi: FloatArray, resolution: float, margin: int = 0) -> IntArray:
@@ -102,7 +96,9 @@ class ObstacleForecast:
         self.keep_lo = self.lo - robot_radius
         self.keep_hi = self.hi + robot_radius
         self.code = np.array([motion_code(o) for o in obs], np.int64)
-        self.speed = np.array([o.speed for o in obs], float) * world.dt
+        # one step of travel; for models that may head anywhere, their declared worst case
+        self.speed = np.array([o.max_step(world.dt, world.resolution) if c == ANY_HEADING else o.speed * world.dt
+                               for o, c in zip(obs, self.code)], float)
         self.walk_step = np.array([(o.speed or world.resolution) for o in obs], float) * world.dt
         # summed-area table of the world's blocked cells: a footprint whose covered cells are
         # all free surely fits (a cell is blocked when anything static or the boundary

@@ -95,9 +95,9 @@ def robot_moving_contacts(world, robots_before: FloatArray, robots_after: FloatA
     """Robot-obstacle collisions of both phases of a step: (robot, obstacle, detail)."""
     out = []
     obstacles = world.moving_obstacles
-    # Phase 1: the obstacle sweeps o0 -> o1 over robots standing at robots_before. A ``redraw``
-    # obstacle does not travel: it reappears at o1, so only o1 is checked.
-    jumps = np.array([getattr(ob.motion, "kind", "") == "redraw" for ob in obstacles], dtype=bool)
+    # Phase 1: the obstacle sweeps o0 -> o1 over robots standing at robots_before. An obstacle
+    # whose motion teleports (redraw) does not travel: it reappears at o1, so only o1 is checked.
+    jumps = np.array([ob.motion.teleports for ob in obstacles], dtype=bool)
     starts = np.where(jumps[:, None], obstacles_after, obstacles_before)
     reach = np.array([ob.extent for ob in obstacles], float) + float(radii.max(initial=0.0)) + g.EPS
     # Which robots come near which obstacle (shape (n_robots, n_obstacles)), for all at once.

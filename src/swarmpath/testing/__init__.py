@@ -2,7 +2,7 @@
 from swarmpath.testing.conformance import check_controller, check_planner, conformance_worlds, unreachable_world
 from swarmpath.testing.validators import Violation, validate_paths, validate_trajectory
 
-__all__ = ["check_controller", "check_optimizer", "check_planner", "conformance_worlds", "unreachable_world",
+__all__ = ["check_controller", "check_motion", "check_optimizer", "check_planner", "conformance_worlds", "unreachable_world",
            "Violation", "validate_paths", "validate_trajectory"]
 
 
@@ -12,4 +12,8 @@ def __getattr__(name: str):
         from swarmpath.optim.conformance import check_optimizer
 
         return check_optimizer
+    if name == "check_motion":
+        from swarmpath.testing.motions import check_motion
+
+        return check_motion
     raise AttributeError(f"module 'swarmpath.testing' has no attribute {name!r}")

@@ -12,13 +12,10 @@ a move is at least ``resolution / 2`` inside the union of the free squares it pa
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any, Protocol, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-
-if TYPE_CHECKING:  # pragma: no cover
-    from swarmpath.world.world import World
 
 IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]
@@ -80,7 +77,15 @@ class OccupancyGrid:
         return c[..., 1] * self.width + c[..., 0]
 
 
-def rasterize(world: "World", resolution: float, radius: float = 0.0) -> OccupancyGrid:
+class StaticScene(Protocol):
+    """What rasterising reads of a world (:class:`swarmpath.world.World` is one)."""
+
+    bounds: Any
+    obstacles: Sequence[Any]
+    static_map: Any
+
+
+def rasterize(world: StaticScene, resolution: float, radius: float = 0.0) -> OccupancyGrid:
     """The occupancy grid of ``world`` at ``resolution`` for robots of ``radius``."""
     ext_w, ext_h = world.bounds.extent
     width = int(np.ceil(ext_w / resolution - 1e-9))

@@ -13,7 +13,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 
 from swarmpath.errors import MapFormatError, ScenarioError
 
@@ -89,15 +89,30 @@ class MovingRectangleModel(_Strict):
 MovingShapeModel = Annotated[Union[MovingCircleModel, MovingRectangleModel], Field(discriminator="type")]
 
 
-class MovingObstacleModel(_Strict):
+class _MovingObstacleFields(_Strict):
     id: Optional[str] = None
     shape: MovingShapeModel
     start: Vec2
     velocity: Vec2 = (0.0, 0.0)
-    motion: Literal["bounce", "bounce8", "turn-every", "random-walk", "redraw", "waypoints"] = "bounce"
-    period: Optional[Annotated[int, Field(ge=1)]] = Field(None, description="turn-every: steps between turns")
-    points: Optional[list[Vec2]] = Field(None, description="waypoints: the points to visit")
-    loop: bool = True
+
+
+def _moving_obstacle_model() -> type[BaseModel]:
+    """The model of one moving obstacle: its common fields, ``motion`` (the registered motion
+    names) and the parameters every registered motion declares (each optional; the builder
+    refuses a parameter that the chosen motion does not use)."""
+    from swarmpath.registry import MOTIONS
+
+    fields: dict[str, Any] = {}
+    for _, motion in MOTIONS.items():
+        for name, (annotation, info) in motion.parameters.items():
+            fields.setdefault(name, (annotation, info))
+    kinds = tuple(MOTIONS.names())
+    return create_model("MovingObstacleModel", __base__=_MovingObstacleFields,
+                        motion=(Literal[kinds], Field("bounce", description="the motion model (see docs/scenarios.md)")),
+                        **fields)
+
+
+MovingObstacleModel = _moving_obstacle_model()
 
 
 class RobotModel(_Strict):
@@ -221,7 +236,7 @@ def world_from_dict(doc: Any, source: str = "<scenario>", base_dir: Path | None 
 
 
 def _build_world(m: ScenarioModel, base_dir: Path, source: str):
-    from swarmpath.world import moving as mv
+    from swarmpath.world.moving import MovingObstacle
     from swarmpath.world.bounds import CircleBounds, RectBounds
     from swarmpath.world.entities import DangerZone, Robot
     from swarmpath.world.movingai import read_map
@@ -261,20 +276,8 @@ def _build_world(m: ScenarioModel, base_dir: Path, source: str):
         shape = (Circle((0.0, 0.0), mo.shape.radius) if isinstance(mo.shape, MovingCircleModel)
                  else Rect((-mo.shape.width / 2, -mo.shape.height / 2), (mo.shape.width / 2, mo.shape.height / 2)))
         where = f"moving_obstacles[{i}]"
-        if mo.motion != "turn-every" and mo.period is not None:
-            raise ScenarioError("only used with motion: turn-every", field=f"{where}.period")
-        if mo.motion != "waypoints" and mo.points is not None:
-            raise ScenarioError("only used with motion: waypoints", field=f"{where}.points")
-        motion = {
-            "bounce": mv.Bounce, "bounce8": mv.Bounce8, "random-walk": mv.RandomWalk, "redraw": mv.Redraw,
-        }.get(mo.motion)
-        if motion is not None:
-            model = motion()
-        elif mo.motion == "turn-every":
-            model = mv.TurnEvery(mo.period or 10)
-        else:
-            model = mv.Waypoints(tuple(tuple(p) for p in (mo.points or [])), mo.loop)
-        moving.append(mv.MovingObstacle(mo.id or f"m{i + 1}", shape, mo.start, mo.velocity, model))
+        model = _build_motion(mo, where)
+        moving.append(MovingObstacle(mo.id or f"m{i + 1}", shape, mo.start, mo.velocity, model))
 
     default_speed = res * math.sqrt(2)
     robots = tuple(Robot(r.id or f"r{i + 1}", r.start, r.goal, r.radius,
@@ -285,6 +288,24 @@ def _build_world(m: ScenarioModel, base_dir: Path, source: str):
     return World(bounds=bounds, obstacles=tuple(obstacles), static_map=static_map, danger_zones=dz,
                  moving_obstacles=tuple(moving), robots=robots, resolution=res, dt=m.dt, name=m.name,
                  defaults=defaults)
+
+
+def _build_motion(mo: Any, where: str):
+    """The motion model of a moving obstacle's model, refusing parameters of other motions."""
+    from swarmpath.registry import MOTIONS
+
+    motion = MOTIONS.get(mo.motion)
+    values = {}
+    for name in type(mo).model_fields:
+        if name in _MovingObstacleFields.model_fields or name == "motion":
+            continue
+        value = getattr(mo, name)
+        if name in motion.parameters:
+            values[name] = value
+        elif value is not None:
+            users = sorted(k for k, m in MOTIONS.items() if name in m.parameters)
+            raise ScenarioError(f"only used with motion: {' or '.join(users)}", field=f"{where}.{name}")
+    return motion.from_parameters(values)
 
 
 def read_scenario_file(path: str | Path) -> tuple[Any, str]:

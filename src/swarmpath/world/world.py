@@ -19,7 +19,7 @@ from swarmpath.world.bounds import Bounds, CircleBounds, RectBounds
 from swarmpath.world.entities import DangerZone, Robot
 from swarmpath.world.geometry import EPS
 from swarmpath.world.grid import OccupancyGrid, rasterize
-from swarmpath.world.moving import MovingObstacle, Waypoints
+from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle, Polygon, Rect, Shape
 from swarmpath.world.static_map import StaticMap
 
@@ -87,26 +87,11 @@ class World:
             self._validate_shape(mo.shape, f"{where}.shape", relative=True)
             if not np.all(np.isfinite(mo.velocity)):
                 raise ScenarioError("must be finite", field=f"{where}.velocity")
-            if isinstance(mo.motion, Waypoints) and not mo.motion.points:
-                raise ScenarioError("waypoints motion needs at least one point", field=f"{where}.points")
             if not self.obstacle_fits(mo, np.asarray([mo.start], float))[0]:
                 raise ScenarioError(f"start {_fmt(mo.start)} overlaps a static obstacle or leaves the workspace",
                                     field=f"{where}.start")
-            if isinstance(mo.motion, Waypoints):
-                self._validate_route(mo, where)
+            mo.motion.check(mo, self, where)
         self._validate_robots()
-
-    def _validate_route(self, mo: MovingObstacle, where: str) -> None:
-        """Scripted routes must be free: sample each leg densely with the footprint."""
-        route = [mo.start, *mo.motion.points] + ([mo.motion.points[0]] if mo.motion.loop else [])
-        for k in range(len(route) - 1):
-            a, b = np.asarray(route[k], float), np.asarray(route[k + 1], float)
-            n = max(2, int(np.ceil(np.linalg.norm(b - a) / (self.resolution / 4))) + 1)
-            pts = a + np.linspace(0, 1, n)[:, None] * (b - a)
-            bad = ~self.obstacle_fits(mo, pts)
-            if bad.any():
-                raise ScenarioError(f"the route passes {_fmt(pts[np.argmax(bad)])}, which overlaps a static obstacle "
-                                    "or leaves the workspace", field=f"{where}.points")
 
     def _validate_shape(self, shape: Any, where: str, relative: bool = False) -> None:
         if isinstance(shape, Circle):
