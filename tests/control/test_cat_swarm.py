@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmpath.control import cat_swarm_kernels as K
+from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cat_swarm import CatSwarmController
 from swarmpath.control.cell_paths import (
     plan_cells,
@@ -16,7 +16,7 @@ from swarmpath.control.cell_paths import (
     tidy_cells,
 )
 from swarmpath.control.hazards import ObstacleForecast, box_cell_ranges, paint
-from swarmpath.control.reservation import reserve_moves
+from swarmpath.control.cat_swarm.reservation import reserve_moves
 from swarmpath.errors import ConfigError
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator

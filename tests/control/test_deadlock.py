@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from swarmpath.control.cat_swarm import CatSwarmController
-from swarmpath.control.deadlock import NOT_URGENT, DeadlockMonitor, priority_order, progress_update
+from swarmpath.control.cat_swarm.deadlock import NOT_URGENT, DeadlockMonitor, priority_order, progress_update
 from swarmpath.metrics.summary import run_summary
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator

@@ -32,19 +32,19 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from swarmpath.control import cat_swarm_kernels as K
-from swarmpath.control.base import Controller, Decision
-from swarmpath.control.observation import CLASS_INDEX, Observation
-from swarmpath.control.cell_paths import plan_cells, remaining_lengths
-from swarmpath.control.deadlock import DeadlockMonitor, priority_order
-from swarmpath.control.hazards import ObstacleForecast
-from swarmpath.control.reservation import reserve_moves
-from swarmpath.errors import ConfigError
 from swarmpath.capabilities import Capabilities
+from swarmpath.control.base import Controller, Decision
+from swarmpath.control.cat_swarm import kernels as K
+from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor, priority_order
+from swarmpath.control.cat_swarm.reservation import reserve_moves
+from swarmpath.control.cell_paths import plan_cells, remaining_lengths
+from swarmpath.control.hazards import ObstacleForecast
+from swarmpath.control.observation import CLASS_INDEX, Observation
+from swarmpath.errors import ConfigError
+from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
 from swarmpath.search import distance_field
-from swarmpath.world import geometry as geo
-from swarmpath.planning.base import Plan
+from swarmpath.world.move_rules import move_conflicts
 from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
@@ -459,8 +459,7 @@ class CatSwarmController(Controller):
         held = np.zeros(n, bool)
         radii = self.radii_
         discs = bool(np.any(radii > 0))
-        c0 = np.floor(pos / grid.resolution + 1e-9).astype(np.int64)  # the checker's cells
-        c1 = np.floor(new / grid.resolution + 1e-9).astype(np.int64)
+        c1 = np.floor(new / grid.resolution + 1e-9).astype(np.int64)  # the checker's cells
         special = (np.linalg.norm(pos - grid.centers(cells), axis=1) > 1e-9) | \
             (np.linalg.norm(new - grid.centers(c1), axis=1) > 1e-9)
         if discs:
@@ -482,13 +481,7 @@ class CatSwarmController(Controller):
             j = np.fromiter((x for v in near for x in v), np.int64, count=len(i))
             keep = i != j
             i, j = i[keep], j[keep]
-            c1 = np.floor(out / grid.resolution + 1e-9).astype(np.int64)
-            points = (radii[i] == 0) & (radii[j] == 0)
-            same = points & np.all(c1[i] == c1[j], axis=1)
-            swap = points & np.all(c1[i] == c0[j], axis=1) & np.all(c1[j] == c0[i], axis=1)
-            gap = geo.relative_min_distance(pos[i], out[i], pos[j], out[j])
-            touch = np.where(points, gap < 1e-7, gap < radii[i] + radii[j] - geo.EPS)
-            bad = np.flatnonzero(same | swap | touch)
+            bad = np.flatnonzero(move_conflicts(pos[i], out[i], pos[j], out[j], radii[i], radii[j], grid.resolution))
             check = np.zeros(n, bool)
             for k in bad:
                 a, b = int(i[k]), int(j[k])
