@@ -1,5 +1,5 @@
-"""The ``swarmpath`` command: a thin shell over the library (see DESIGN.md, "The stable
-command line"). Bad input prints one line on stderr and exits with code 2; ``--json`` prints
+"""The ``swarmpath`` command: a thin shell over the library (docs/guide.md lists the
+command line). Bad input prints one line on stderr and exits with code 2; ``--json`` prints
 exactly one JSON object on stdout.
 """
 from __future__ import annotations

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmpath.control import prediction as pred
+from swarmpath.control.pso_predictive import prediction as pred
 from swarmpath.rng import make_rng
 from swarmpath.world import RectBounds, Robot, World
 from swarmpath.world.moving import MovingObstacle, TurnEvery, advance_obstacles, initial_obstacle_state

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from swarmpath.control import pso_predictive as pp
+from swarmpath.world.static_geometry import StaticGeometry, static_geometry
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS
 from swarmpath.runner import choose_pair
@@ -59,8 +60,8 @@ def test_wrapped_velocity_update_eq_8():
 def test_fast_static_geometry_agrees_with_the_world():
     world = World(RectBounds(10, 8), obstacles=(Circle((3, 3), 1.0), Rect((6, 2), (8, 5))),
                   robots=(Robot("a", (1, 7), (9, 7), 0.4, 1.0),))
-    fast = pp.static_geometry(world)
-    assert isinstance(fast, pp.StaticGeometry)
+    fast = static_geometry(world)
+    assert isinstance(fast, StaticGeometry)
     rng = np.random.default_rng(0)
     a = rng.uniform(0, 10, (2000, 2)) * [1, 0.8]
     b = a + rng.normal(0, 0.7, a.shape)

@@ -4,8 +4,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmpath.control.prediction import predict_linear
-from swarmpath.control.pso_predictive import PredictivePSOController, point_segment_distance
+from swarmpath.control.pso_predictive.prediction import predict_linear
+from swarmpath.control.pso_predictive import PredictivePSOController
+from swarmpath.world.geometry import point_segment_distance
 from swarmpath.errors import ConfigError
 from swarmpath.perception import PixelFrame, colour_mask, find_regions, load_image, render_state, rgb_distance, save_png
 from swarmpath.perception.colour import centroids

@@ -18,7 +18,7 @@ so the rule never creates a collision it could have avoided. A conflict is, for 
 j moving in straight lines during the step (:func:`moves_conflict`): coming closer than the
 sum of their radii plus ``separation`` at any time of the step (or than their current
 distance, if that is already smaller); and for two point robots, which occupy grid cells
-(DESIGN.md), ending in the same cell of the world's grid or swapping cells. These are the
+(docs/scenarios.md, "Coordinates"), ending in the same cell of the world's grid or swapping cells. These are the
 simulator checker's rules with a margin, so a run without invalid moves has no robot-robot
 contact.
 
@@ -40,7 +40,7 @@ from swarmpath.control.path_tracking import advance_along
 from swarmpath.errors import ConfigError
 from swarmpath.capabilities import Capabilities
 from swarmpath.registry import register_controller
-from swarmpath.world import geometry as g
+from swarmpath.world.move_rules import NO_CONFLICT, move_conflicts, swept_gap
 from swarmpath.planning.base import Plan
 from swarmpath.world.world import World
 
@@ -79,15 +79,9 @@ def moves_conflict(a: ArrayLike, b: ArrayLike, q0: ArrayLike, q1: ArrayLike, rad
     rsum = radius + radii
     now = np.linalg.norm(a - q0, axis=1)
     need = np.maximum(np.minimum(rsum + separation, now), rsum + 1e-6)
-    dmin = g.relative_min_distance(a[None], b[None], q0, q1)
-    bad = dmin < need - 1e-12
-    points = (radius == 0) & (radii == 0)
-    if points.any():
-        cell = lambda p: np.floor(np.asarray(p, float) / resolution + 1e-9).astype(np.int64)  # noqa: E731
-        ca0, ca1, cq0, cq1 = cell(a), cell(b), cell(q0), cell(q1)
-        same = np.all(cq1 == ca1, axis=-1)
-        swap = np.all(cq1 == ca0, axis=-1) & np.all(cq0 == ca1, axis=-1) & np.any(cq0 != ca0, axis=-1)
-        bad |= points & (same | swap)
+    bad = swept_gap(a[None], b[None], q0, q1) < need - 1e-12
+    # and whatever the checker itself calls a contact (for point robots: their grid cells)
+    bad |= move_conflicts(a[None], b[None], q0, q1, radius, radii, resolution) != NO_CONFLICT
     return bad
 
 

@@ -1,4 +1,4 @@
-"""Artificial fish swarm algorithm (Li Xiaolei 2002; ALGORITHMS.md section 3 in its continuous form).
+"""Artificial fish swarm algorithm (Li Xiaolei 2002, in its continuous form; docs/papers/karim-2014.md has the grid form).
 
 Each fish looks around within its visual range and, every iteration, tries:
 

@@ -92,7 +92,7 @@ def run_benchmark(
 ) -> dict[str, Any]:
     """Run ``algorithm`` ``runs`` times on the registered ``function`` in ``dim`` dimensions.
 
-    Returns the JSON object of ``swarmpath optimize --json`` (DESIGN.md):
+    Returns the JSON object of ``swarmpath optimize --json`` (docs/guide.md):
     {"algorithm", "function", "dim", "runs", "min", "mean", "std", "best_per_run"}, plus
     "median", "particles", "iterations", "seed", "evaluations" (total over the runs) and
     "wall_time_s" (total). ``std`` is the population standard deviation of best_per_run.

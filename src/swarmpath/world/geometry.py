@@ -15,8 +15,31 @@ FloatArray = NDArray[np.float64]
 EPS = 1e-9
 
 
+def planar_norm(v: ArrayLike) -> FloatArray:
+    """Euclidean length of 2-D vectors (shape (..., 2)), written out per coordinate."""
+    v = np.asarray(v, dtype=float)
+    return np.sqrt(v[..., 0] * v[..., 0] + v[..., 1] * v[..., 1])
+
+
+def origin_segment_distance(a: ArrayLike, b: ArrayLike) -> FloatArray:
+    """Distance from the origin to segments ``a``-``b`` (shape (..., 2)), written out per
+    coordinate: the hot kernel of swept-disc tests (a moving disc against a fixed point is a
+    segment in the point's frame)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    ax, ay = a[..., 0], a[..., 1]
+    dx, dy = b[..., 0] - ax, b[..., 1] - ay
+    denom = dx * dx + dy * dy
+    safe = np.where(denom > 0, denom, 1.0)
+    t = np.clip(-(ax * dx + ay * dy) / safe, 0.0, 1.0)
+    cx, cy = ax + t * dx, ay + t * dy
+    return np.sqrt(cx * cx + cy * cy)
+
+
 def point_segment_distance(p: ArrayLike, a: ArrayLike, b: ArrayLike) -> FloatArray:
-    """Distance from points ``p`` to segments ``a``-``b`` (all of shape (..., 2))."""
+    """Distance from points ``p`` to segments ``a``-``b`` (all of shape (..., 2)). (The
+    checker and the path objectives use this form; :func:`origin_segment_distance` is the
+    same quantity written for speed, which the per-step PSO evaluates millions of times;
+    their last bits may differ, and stored results depend on each.)"""
     p, a, b = (np.asarray(v, dtype=float) for v in (p, a, b))
     ab = b - a
     denom = np.einsum("...i,...i->...", ab, ab)

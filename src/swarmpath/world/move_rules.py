@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from swarmpath.world.geometry import EPS, relative_min_distance
+from swarmpath.world.geometry import EPS, origin_segment_distance
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -43,6 +43,14 @@ def point_cells(points: ArrayLike, resolution: float) -> IntArray:
     return np.floor(np.asarray(points, float) / resolution + 1e-9).astype(np.int64)
 
 
+def swept_gap(p0_i: ArrayLike, p1_i: ArrayLike, p0_j: ArrayLike, p1_j: ArrayLike) -> FloatArray:
+    """The smallest distance between the centres of two robots moving ``p0 -> p1`` in
+    straight lines during the same step (shape (..., 2) each -> (...)): the relative motion
+    is a segment, and its distance to the origin is the answer."""
+    p0_i, p1_i, p0_j, p1_j = (np.asarray(v, float) for v in (p0_i, p1_i, p0_j, p1_j))
+    return origin_segment_distance(p0_i - p0_j, p1_i - p1_j)
+
+
 def contact_distance(radius_i: ArrayLike, radius_j: ArrayLike) -> FloatArray:
     """The distance two robots must keep (exclusive): the sum of their radii, or EPS for two
     point robots (which then only meet by passing through the same point)."""
@@ -60,7 +68,7 @@ def move_conflicts(p0_i: ArrayLike, p1_i: ArrayLike, p0_j: ArrayLike, p1_j: Arra
     r_i = np.asarray(radius_i, float)
     r_j = np.asarray(radius_j, float)
     need = contact_distance(r_i, r_j)
-    gap = relative_min_distance(p0_i, p1_i, p0_j, p1_j)
+    gap = swept_gap(p0_i, p1_i, p0_j, p1_j)
     both_points = (r_i == 0) & (r_j == 0)
     c0_i, c1_i = point_cells(p0_i, resolution), point_cells(p1_i, resolution)
     c0_j, c1_j = point_cells(p0_j, resolution), point_cells(p1_j, resolution)
