@@ -20,3 +20,5 @@ class Capabilities:
     multi_robot: bool = True          # avoids other robots
     randomized: bool = False          # result depends on the seed
     multi_objective: bool = False     # planners: optimises several objectives
+    contact_free: bool = True         # promises zero contacts in what it handles (the two flags
+                                      # above); a paper-pure variant that only tries says False

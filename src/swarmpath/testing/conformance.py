@@ -62,7 +62,10 @@ def check_planner(make_planner: Callable[[], object], worlds: Sequence[World] | 
 
 def collision_free_expected(capabilities, world: World) -> bool:
     """Whether a controller with ``capabilities`` promises zero contacts in ``world``: it must
-    avoid other robots when there are several, and moving obstacles when there are any."""
+    promise them at all (``contact_free``), avoid other robots when there are several, and
+    moving obstacles when there are any."""
+    if not getattr(capabilities, "contact_free", True):
+        return False
     if world.n_robots > 1 and not capabilities.multi_robot:
         return False
     return not (world.moving_obstacles and not capabilities.moving_obstacles)
