@@ -79,18 +79,53 @@ def test_path_unreachable_prints_null_and_exits_0(tmp_path: Path) -> None:
     assert doc["cost"] is None and doc["path"] is None
 
 
-def test_run_movingai_json_has_the_contract_fields() -> None:
-    p = swarmpath("run", "--map", str(DATA / "random-32-32-10.map"), "--scen", str(DATA / "random-32-32-10-random-1.scen"),
-                  "--agents", "10", "--planner", "astar", "--controller", "follow", "--seed", "1", "--json")
+def test_run_movingai_json_reports_what_happened(tmp_path: Path) -> None:
+    """Every field of ``run --json`` holds the right value: lengths, arrivals and contacts are
+    recomputed here from the saved trajectory, and the planned lengths are the .scen file's
+    optimal lengths (A* is optimal)."""
+    import numpy as np
+
+    from swarmpath.sim import Trajectory
+    from swarmpath.world import read_scen
+
+    scen = DATA / "random-32-32-10-random-1.scen"
+    p = swarmpath("run", "--map", str(DATA / "random-32-32-10.map"), "--scen", str(scen), "--agents", "10",
+                  "--planner", "astar", "--controller", "follow", "--seed", "1", "--json", "--out", str(tmp_path))
     assert p.returncode == 0, p.stderr
     doc = json.loads(p.stdout)
-    for key in ("scenario", "planner", "controller", "seed", "success", "steps", "makespan", "sum_of_lengths",
-                "sum_of_arrival_steps", "collisions", "deadlocks", "min_clearance", "planning_time_s", "sim_time_s",
-                "robots"):
-        assert key in doc
-    assert set(doc["collisions"]) == {"robot_robot", "robot_static", "robot_moving"}
-    assert set(doc["robots"][0]) >= {"id", "reached", "path_length", "planned_length", "arrival_step", "waits"}
-    assert len(doc["robots"]) == 10
+    assert (doc["scenario"], doc["planner"], doc["controller"], doc["seed"]) == (
+        "random-32-32-10", "astar", "follow", 1)
+    traj = Trajectory.load(tmp_path / "trajectory.npz")
+    assert doc["steps"] == traj.n_steps and doc["status"] == traj.status.value
+    kinds = {"robot_robot": 0, "robot_static": 0, "robot_moving": 0}
+    for c in traj.contacts:
+        kinds[c.kind] += 1
+    assert doc["collisions"] == kinds
+    assert doc["safe"] == (sum(kinds.values()) == 0)
+    at_goal = np.linalg.norm(traj.positions - traj.goals[None], axis=2) <= 1e-9
+    reached = at_goal[-1]
+    assert doc["reached"] == int(reached.sum()) and doc["n_robots"] == 10
+    assert doc["success"] == (bool(reached.all()) and doc["safe"])
+    steps = np.linalg.norm(np.diff(traj.positions, axis=0), axis=2)
+    rows = read_scen(scen)[:10]
+    arrivals = []
+    for i, robot in enumerate(doc["robots"]):
+        assert robot["id"] == traj.robot_ids[i]
+        assert robot["path_length"] == pytest.approx(steps[:, i].sum())
+        assert robot["planned_length"] == pytest.approx(rows[i].optimal_length, abs=1e-6)
+        away = np.flatnonzero(~at_goal[:, i])
+        arrival = (int(away[-1]) + 1 if len(away) else 0) if reached[i] else None
+        assert robot["arrival_step"] == arrival and robot["reached"] == bool(reached[i])
+        moved = np.any(traj.positions[1:, i] != traj.positions[:-1, i], axis=1)
+        assert robot["waits"] == int(np.count_nonzero(~moved & ~at_goal[:-1, i]))
+        arrivals.append(arrival)
+    assert doc["sum_of_lengths"] == pytest.approx(steps.sum())
+    if reached.all():
+        assert doc["makespan"] == max(arrivals) and doc["sum_of_arrival_steps"] == sum(arrivals)
+    else:
+        assert doc["makespan"] is None and doc["sum_of_arrival_steps"] is None
+    assert doc["planning_time_s"] >= 0 and doc["sim_time_s"] > 0
+    assert doc["min_clearance"] <= 0.5 + 1e-9
 
 
 def test_import_is_lazy() -> None:

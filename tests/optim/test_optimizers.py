@@ -184,11 +184,6 @@ def test_nan_objective_never_becomes_the_best():
         assert res.x[0] <= 0, name
 
 
-@pytest.mark.parametrize("name", NAMES)
-def test_public_conformance_check_passes(name):
-    from swarmpath.optim.conformance import check_optimizer
-
-    assert check_optimizer(OPTIMIZERS.get(name)) == []
 
 
 def test_public_conformance_check_catches_a_broken_optimizer():

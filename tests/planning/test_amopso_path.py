@@ -63,8 +63,8 @@ def test_choice_rule():
 
 
 @pytest.mark.slow
-def test_conformance():
-    assert check_planner(lambda: AMOPSOPathPlanner()) == []
+def test_conformance_of_a_non_default_configuration():
+    """(The default configuration is swept in tests/test_conformance.py.)"""
     assert check_planner(lambda: AMOPSOPathPlanner(update="pso", mode="weighted-sum", init="random",
                                                    iterations=40)) == []
 

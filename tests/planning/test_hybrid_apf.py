@@ -12,7 +12,7 @@ from swarmpath.planning.astar import AStarPlanner
 from swarmpath.planning.hybrid_apf import HybridAPFPlanner
 from swarmpath.registry import PLANNERS
 from swarmpath.runner import run_world
-from swarmpath.testing import check_planner, unreachable_world, validate_paths, validate_trajectory
+from swarmpath.testing import unreachable_world, validate_paths, validate_trajectory
 from swarmpath.world import load_scenario
 
 TRAPS = ["apf-trap-gap", "apf-trap-goal-near-obstacle", "apf-trap-aligned", "apf-trap-u-shape"]
@@ -108,5 +108,3 @@ def test_bad_hyperparameters(bad):
         HybridAPFPlanner(**bad)
 
 
-def test_conformance():
-    assert check_planner(HybridAPFPlanner) == []

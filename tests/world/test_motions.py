@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 from swarmpath.errors import ScenarioError
-from swarmpath.registry import MOTIONS
 from swarmpath.testing import check_motion
 from swarmpath.world import world_from_dict
 from swarmpath.world.motions import Bounce, motions_markdown
