@@ -305,7 +305,10 @@ def _build_motion(mo: Any, where: str):
         elif value is not None:
             users = sorted(k for k, m in MOTIONS.items() if name in m.parameters)
             raise ScenarioError(f"only used with motion: {' or '.join(users)}", field=f"{where}.{name}")
-    return motion.from_parameters(values)
+    try:
+        return motion.from_parameters(values)
+    except ScenarioError as exc:
+        raise ScenarioError(exc.problem, field=f"{where}.{exc.field}" if exc.field else where) from None
 
 
 def read_scenario_file(path: str | Path) -> tuple[Any, str]:

@@ -1,0 +1,29 @@
+"""Rewrite the documentation generated from the code: the JSON Schema of scenario files
+(docs/scenario.schema.json) and the list of motion models in docs/scenarios.md. Run it after
+adding a motion model or changing the scenario models; the tests fail until it has run.
+
+    python docs/regenerate.py
+"""
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+from swarmpath.world.motions import motions_markdown
+from swarmpath.world.scenario import scenario_json_schema
+
+DOCS = Path(__file__).parent
+
+
+def main() -> None:
+    (DOCS / "scenario.schema.json").write_text(json.dumps(scenario_json_schema(), indent=2) + "\n", encoding="utf-8")
+    page = DOCS / "scenarios.md"
+    text = page.read_text(encoding="utf-8")
+    block = re.compile(r"(<!-- motions:begin[^\n]*-->\n).*?(<!-- motions:end -->)", re.S)
+    page.write_text(block.sub(lambda m: m.group(1) + motions_markdown() + "\n" + m.group(2), text), encoding="utf-8")
+    print("regenerated docs/scenario.schema.json and the motion list in docs/scenarios.md")
+
+
+if __name__ == "__main__":
+    main()
