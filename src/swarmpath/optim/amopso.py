@@ -20,11 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.optim._budget import Evaluator
 from swarmpath.optim._checks import check_choice, check_float, check_int
-from swarmpath.optim.base import Optimizer, RunOutput
 from swarmpath.optim.problem import Problem
-from swarmpath.optim.pso import Coefficients, check_inertia_bounds, run_gbest_swarm
+from swarmpath.optim.pso import Coefficients, GlobalBestOptimizer, check_inertia_bounds
 from swarmpath.registry import register_optimizer
 
 Array = NDArray[np.float64]
@@ -216,7 +214,7 @@ def amopso_rule(variant: int, *, z: float = 1.5, w_min: float = 0.4, w_max: floa
 
 
 @dataclass(frozen=True)
-class AMOPSO(Optimizer):
+class AMOPSO(GlobalBestOptimizer):
     """Adaptive PSO, one of the four variants of Table 1 (single objective; see MOPSO for several).
 
     Parameters
@@ -250,27 +248,6 @@ class AMOPSO(Optimizer):
     def rule(self) -> AMOPSORule:
         """The update rule of this variant with this optimiser's coefficients."""
         return amopso_rule(self.variant, z=self.z, w_min=self.w_min, w_max=self.w_max)
-
-    def _run(
-        self,
-        problem: Problem,
-        evaluate: Evaluator,
-        *,
-        iterations: int,
-        particles: int,
-        rng: np.random.Generator,
-        initial: Array | None,
-    ) -> RunOutput:
-        return run_gbest_swarm(
-            problem,
-            evaluate,
-            self.rule(),
-            iterations=iterations,
-            particles=particles,
-            rng=rng,
-            initial=initial,
-            velocity_clamp=self.velocity_clamp,
-        )
 
 
 @register_optimizer("amopso1")

@@ -19,6 +19,7 @@ Two registered parameterisations of the same algorithm:
 """
 from __future__ import annotations
 
+import abc
 from dataclasses import dataclass
 from typing import NamedTuple, Protocol
 
@@ -305,9 +306,41 @@ CONSTRICTION_ACCELERATION = 1.49618
 """chi * 2.05: the acceleration coefficients that go with :data:`CONSTRICTION_INERTIA`."""
 
 
+class GlobalBestOptimizer(Optimizer):
+    """An optimiser that is one global-best swarm driven by an update rule (PSO, SPSO, the
+    AMOPSO variants): subclasses give :meth:`rule` and a ``velocity_clamp`` field."""
+
+    velocity_clamp: float
+
+    @abc.abstractmethod
+    def rule(self) -> UpdateRule:
+        """The update rule (the coefficients of eq. 9-10 at every iteration)."""
+
+    def _run(
+        self,
+        problem: Problem,
+        evaluate: Evaluator,
+        *,
+        iterations: int,
+        particles: int,
+        rng: np.random.Generator,
+        initial: Array | None,
+    ) -> RunOutput:
+        return run_gbest_swarm(
+            problem,
+            evaluate,
+            self.rule(),
+            iterations=iterations,
+            particles=particles,
+            rng=rng,
+            initial=initial,
+            velocity_clamp=self.velocity_clamp,
+        )
+
+
 @register_optimizer("pso")
 @dataclass(frozen=True)
-class PSO(Optimizer):
+class PSO(GlobalBestOptimizer):
     """Global-best PSO, by default with constriction coefficients (see the module doc).
 
     Parameters
@@ -337,27 +370,6 @@ class PSO(Optimizer):
     def rule(self) -> SPSORule:
         """The update rule with this optimiser's coefficients."""
         return SPSORule(self.w_max, self.w_min, self.c1, self.c2)
-
-    def _run(
-        self,
-        problem: Problem,
-        evaluate: Evaluator,
-        *,
-        iterations: int,
-        particles: int,
-        rng: np.random.Generator,
-        initial: Array | None,
-    ) -> RunOutput:
-        return run_gbest_swarm(
-            problem,
-            evaluate,
-            self.rule(),
-            iterations=iterations,
-            particles=particles,
-            rng=rng,
-            initial=initial,
-            velocity_clamp=self.velocity_clamp,
-        )
 
 
 @register_optimizer("spso")

@@ -17,29 +17,17 @@ from typing import Any, Protocol, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from swarmpath.world.raster import Raster
+
 IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True, eq=False)
-class OccupancyGrid:
+class OccupancyGrid(Raster):
     """A boolean raster ``blocked`` of shape (height, width) with its cell size."""
 
-    blocked: NDArray[np.bool_]
     resolution: float = 1.0
-
-    def __post_init__(self) -> None:
-        b = np.ascontiguousarray(self.blocked, dtype=bool)
-        b.setflags(write=False)
-        object.__setattr__(self, "blocked", b)
-
-    @property
-    def height(self) -> int:
-        return int(self.blocked.shape[0])
-
-    @property
-    def width(self) -> int:
-        return int(self.blocked.shape[1])
 
     @property
     def free(self) -> NDArray[np.bool_]:

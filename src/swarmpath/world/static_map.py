@@ -13,34 +13,24 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from swarmpath.world import geometry as g
+from swarmpath.world.raster import Raster
 
 FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True, eq=False)
-class StaticMap:
+class StaticMap(Raster):
     """Blocked cells of a raster: ``blocked[y, x]`` is True for a blocked cell."""
 
-    blocked: NDArray[np.bool_]
     cell_size: float = 1.0
     source: str = ""
     _summed: NDArray[np.int64] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        blocked = np.ascontiguousarray(self.blocked, dtype=bool)
-        blocked.setflags(write=False)
-        object.__setattr__(self, "blocked", blocked)
-        summed = np.zeros((blocked.shape[0] + 1, blocked.shape[1] + 1), dtype=np.int64)
-        summed[1:, 1:] = blocked.cumsum(0).cumsum(1)
+        super().__post_init__()
+        summed = np.zeros((self.blocked.shape[0] + 1, self.blocked.shape[1] + 1), dtype=np.int64)
+        summed[1:, 1:] = self.blocked.cumsum(0).cumsum(1)
         object.__setattr__(self, "_summed", summed)
-
-    @property
-    def height(self) -> int:
-        return int(self.blocked.shape[0])
-
-    @property
-    def width(self) -> int:
-        return int(self.blocked.shape[1])
 
     def count_blocked(self, x0: NDArray, y0: NDArray, x1: NDArray, y1: NDArray) -> NDArray[np.int64]:
         """Blocked cells in the index ranges [x0, x1) x [y0, y1) (clipped to the map)."""

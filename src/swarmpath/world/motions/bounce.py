@@ -3,6 +3,7 @@ component(s) that caused it are reflected."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from swarmpath.registry import register_motion
 from swarmpath.world.motions._straight import straight_step
@@ -16,8 +17,11 @@ class Bounce(Motion):
 
     kind = "bounce"
     forecast = "bounce"
+    #: On a hit: a random free compass direction (True) instead of a reflection.
+    new_direction_on_hit: ClassVar[bool] = False
 
     def advance(self, ob: Footprinted, position: FloatArray, velocity: FloatArray, counter: int,
                 ctx: StepContext) -> tuple[FloatArray, FloatArray, int]:
-        p, v = straight_step(ctx.terrain, ob, position, velocity, ctx.terrain.dt, ctx.rng, eight=False)
+        p, v = straight_step(ctx.terrain, ob, position, velocity, ctx.terrain.dt, ctx.rng,
+                             eight=self.new_direction_on_hit)
         return p, v, counter

@@ -5,19 +5,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from swarmpath.registry import register_motion
-from swarmpath.world.motions._straight import straight_step
-from swarmpath.world.motions.base import FloatArray, Footprinted, Motion, StepContext
+from swarmpath.world.motions.bounce import Bounce
 
 
 @register_motion("bounce8")
 @dataclass(frozen=True)
-class Bounce8(Motion):
+class Bounce8(Bounce):
     """Straight on until blocked, then a random other compass direction that is free."""
 
     kind = "bounce8"
     forecast = "bounce8"
-
-    def advance(self, ob: Footprinted, position: FloatArray, velocity: FloatArray, counter: int,
-                ctx: StepContext) -> tuple[FloatArray, FloatArray, int]:
-        p, v = straight_step(ctx.terrain, ob, position, velocity, ctx.terrain.dt, ctx.rng, eight=True)
-        return p, v, counter
+    new_direction_on_hit = True
