@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.errors import MapFormatError, ScenarioError
+from swarmpath.world.limits import MAX_GRID_CELLS, MAX_MAP_BYTES, read_text_bounded
 
 PASSABLE = frozenset(".GS")
 BLOCKED = frozenset("@OTW")
@@ -55,14 +57,24 @@ class ScenEntry:
 
 
 def _read_text(path: str | Path, what: str) -> str:
-    try:
-        return Path(path).read_text(encoding="ascii", errors="strict")
-    except FileNotFoundError:
-        raise MapFormatError(f"{path}: no such {what} file") from None
-    except UnicodeDecodeError as exc:
-        raise MapFormatError(f"{path}: not a text {what} file (byte {exc.start} is not ASCII)") from None
-    except OSError as exc:
-        raise MapFormatError(f"{path}: cannot read {what} file: {exc.strerror}") from None
+    return read_text_bounded(resolve_movingai(path), what, MAX_MAP_BYTES, MapFormatError, encoding="ascii")
+
+
+def builtin_movingai() -> list[str]:
+    """File names of the MovingAI maps and scens shipped with swarmpath (package data)."""
+    folder = resources.files("swarmpath.data.movingai")
+    return sorted(e.name for e in folder.iterdir() if e.name.endswith((".map", ".scen")))
+
+
+def resolve_movingai(path: str | Path) -> Path:
+    """``path`` itself when it names an existing file, else the built-in MovingAI file of
+    that name (``random-32-32-10.map`` works from any folder), else ``path`` unchanged (the
+    reader then says it does not exist)."""
+    p = Path(path)
+    if p.exists() or p.name != str(path):
+        return p
+    entry = resources.files("swarmpath.data.movingai").joinpath(p.name)
+    return Path(str(entry)) if entry.is_file() else p
 
 
 def parse_map(text: str, source: str = "<map>") -> MovingAIMap:
@@ -100,6 +112,9 @@ def parse_map(text: str, source: str = "<map>") -> MovingAIMap:
         if dims[key] <= 0:
             raise MapFormatError(f"{source}: header: {key} must be positive, got {dims[key]}")
     height, width = dims["height"], dims["width"]
+    if height * width > MAX_GRID_CELLS:
+        raise MapFormatError(f"{source}: header: {width} x {height} cells is more than swarmpath's limit of "
+                             f"{MAX_GRID_CELLS:,} cells per map")
     rows = lines[i:]
     while rows and not rows[-1].strip():
         rows.pop()
@@ -200,6 +215,8 @@ def world_from_movingai(map_path: str | Path, scen_path: str | Path | None = Non
     entries: list[ScenEntry] = []
     if scen_path is not None:
         entries = read_scen(scen_path, m)
+        if not entries:
+            raise MapFormatError(f"{scen_path}: the scenario has no rows, so no robots (at least one row is needed)")
         if n_agents is not None:
             if n_agents < 1:
                 raise ScenarioError(f"must be >= 1, got {n_agents}", field="--agents")

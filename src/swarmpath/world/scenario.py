@@ -7,19 +7,17 @@ which then checks geometry (starts inside obstacles, clashing robots, ...).
 """
 from __future__ import annotations
 
-import json
 import math
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
+from pydantic import BaseModel, ConfigDict, Field, Strict, ValidationError, create_model
 
 from swarmpath.errors import MapFormatError, ScenarioError
-
-Vec2 = tuple[float, float]
-PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NonNegativeFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+from swarmpath.world import limits
+from swarmpath.world.fields import Name, NonNegativeFloat, PositiveFloat, Vec2
+from swarmpath.world.limits import DocumentError, preview
 
 
 class _Strict(BaseModel):
@@ -30,20 +28,20 @@ class CircleModel(_Strict):
     type: Literal["circle"]
     center: Vec2
     radius: PositiveFloat
-    id: str = ""
+    id: Name = ""
 
 
 class RectangleModel(_Strict):
     type: Literal["rectangle"]
     min: Vec2
     max: Vec2
-    id: str = ""
+    id: Name = ""
 
 
 class PolygonModel(_Strict):
     type: Literal["polygon"]
-    points: list[Vec2] = Field(min_length=3)
-    id: str = ""
+    points: list[Vec2] = Field(min_length=3, max_length=limits.MAX_POLYGON_POINTS)
+    id: Name = ""
 
 
 ObstacleModel = Annotated[Union[CircleModel, RectangleModel, PolygonModel], Field(discriminator="type")]
@@ -65,14 +63,15 @@ BoundsModel = Annotated[Union[RectBoundsModel, CircleBoundsModel], Field(discrim
 
 
 class MapModel(_Strict):
-    file: str = Field(description="MovingAI .map file, relative to the scenario file")
+    file: Annotated[str, Strict(), Field(min_length=1, max_length=4096)] = Field(
+        description="MovingAI .map file, relative to the scenario file (or a built-in map's name)")
 
 
 class DangerZoneModel(_Strict):
     center: Vec2
     radius: NonNegativeFloat = 0.0
     weight: NonNegativeFloat = 1.0
-    id: str = ""
+    id: Name = ""
 
 
 class MovingCircleModel(_Strict):
@@ -90,7 +89,7 @@ MovingShapeModel = Annotated[Union[MovingCircleModel, MovingRectangleModel], Fie
 
 
 class _MovingObstacleFields(_Strict):
-    id: Optional[str] = None
+    id: Optional[Name] = None
     shape: MovingShapeModel
     start: Vec2
     velocity: Vec2 = (0.0, 0.0)
@@ -116,7 +115,7 @@ MovingObstacleModel = _moving_obstacle_model()
 
 
 class RobotModel(_Strict):
-    id: Optional[str] = None
+    id: Optional[Name] = None
     start: Vec2
     goal: Vec2
     radius: NonNegativeFloat = 0.0
@@ -125,23 +124,23 @@ class RobotModel(_Strict):
 
 
 class DefaultsModel(_Strict):
-    planner: Optional[str] = None
-    controller: Optional[str] = None
+    planner: Optional[Name] = None
+    controller: Optional[Name] = None
 
 
 class ScenarioModel(_Strict):
     """A swarmpath scenario, schema version 1."""
 
     schema_version: Literal[1]
-    name: str = Field(min_length=1)
-    description: str = ""
+    name: Annotated[str, Strict(), Field(min_length=1, max_length=200)]
+    description: Annotated[str, Strict(), Field(max_length=10_000)] = ""
     resolution: PositiveFloat = 1.0
     dt: PositiveFloat = 1.0
     bounds: Optional[BoundsModel] = None
     map: Optional[MapModel] = None
-    obstacles: list[ObstacleModel] = []
-    danger_zones: list[DangerZoneModel] = []
-    moving_obstacles: list[MovingObstacleModel] = []
+    obstacles: list[ObstacleModel] = Field([], max_length=limits.MAX_SHAPES)
+    danger_zones: list[DangerZoneModel] = Field([], max_length=limits.MAX_SHAPES)
+    moving_obstacles: list[MovingObstacleModel] = Field([], max_length=limits.MAX_SHAPES)
     robots: list[RobotModel] = Field(min_length=1)
     defaults: Optional[DefaultsModel] = None
 
@@ -181,7 +180,7 @@ def _describe(err: dict[str, Any]) -> str:
         return f"must be 1, got {err.get('input')!r}"
     msg = err["msg"]
     if "input" in err and kind not in ("union_tag_invalid",):
-        msg += f" (got {err['input']!r})"
+        msg += f" (got {preview(err['input'])})"
     return msg
 
 
@@ -202,22 +201,14 @@ def scenario_problems(doc: Any) -> list[ScenarioError]:
 
 
 def parse_document(text: str, source: str) -> Any:
-    """Parse YAML or JSON text (JSON when the source ends in .json), with line numbers in errors."""
-    if source.endswith(".json"):
-        try:
-            return json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ScenarioError(f"line {exc.lineno}, column {exc.colno}: JSON syntax error: {exc.msg}",
-                                source=source) from None
-    import yaml
-
+    """Parse YAML or JSON text (JSON when the source ends in .json), with line numbers in
+    errors; duplicate keys, alias bombs and deep nesting are refused (swarmpath.world.limits)."""
     try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise ScenarioError(f"{where}YAML syntax error: {problem}", source=source) from None
+        if source.endswith(".json"):
+            return limits.parse_json_bounded(text)
+        return limits.parse_yaml_bounded(text)
+    except DocumentError as exc:
+        raise ScenarioError(str(exc), source=source) from None
 
 
 def world_from_dict(doc: Any, source: str = "<scenario>", base_dir: Path | None = None):
@@ -239,7 +230,7 @@ def _build_world(m: ScenarioModel, base_dir: Path, source: str):
     from swarmpath.world.moving import MovingObstacle
     from swarmpath.world.bounds import CircleBounds, RectBounds
     from swarmpath.world.entities import DangerZone, Robot
-    from swarmpath.world.movingai import read_map
+    from swarmpath.world.movingai import read_map, resolve_movingai
     from swarmpath.world.shapes import Circle, Polygon, Rect
     from swarmpath.world.static_map import StaticMap
     from swarmpath.world.world import World
@@ -247,7 +238,9 @@ def _build_world(m: ScenarioModel, base_dir: Path, source: str):
     res = m.resolution
     static_map = None
     if m.map is not None:
-        path = (base_dir / m.map.file)
+        path = base_dir / m.map.file
+        if not path.exists():
+            path = resolve_movingai(m.map.file)   # a built-in map by its file name
         try:
             grid_map = read_map(path)
         except MapFormatError as exc:
@@ -313,13 +306,7 @@ def _build_motion(mo: Any, where: str):
 
 def read_scenario_file(path: str | Path) -> tuple[Any, str]:
     """Read and parse a scenario file: (document, source name)."""
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError("no such file", source=str(path)) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"cannot read: {exc}", source=str(path)) from None
+    text = limits.read_text_bounded(path, "scenario", limits.MAX_SCENARIO_BYTES, ScenarioError)
     return parse_document(text, str(path)), str(path)
 
 

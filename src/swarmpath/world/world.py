@@ -8,22 +8,35 @@ obstacles, and hands out cached occupancy grids for grid planners and controller
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from scipy.spatial import cKDTree
+
 from swarmpath.errors import ScenarioError
+from swarmpath.world import limits
 from swarmpath.world.bounds import Bounds, CircleBounds, RectBounds
 from swarmpath.world.entities import DangerZone, Robot
 from swarmpath.world.geometry import EPS
 from swarmpath.world.grid import OccupancyGrid, rasterize
+from swarmpath.world.limits import preview
 from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle, Polygon, Rect, Shape
 from swarmpath.world.static_map import StaticMap
 
 FloatArray = NDArray[np.float64]
+
+
+def _finite(*values: Any) -> bool:
+    """Whether every value is a real finite number (not a bool, not NaN or infinite)."""
+    try:
+        return all(not isinstance(v, bool) and math.isfinite(float(v)) for v in values)
+    except (TypeError, ValueError):
+        return False
 
 
 def _fmt(p: ArrayLike) -> str:
@@ -58,22 +71,39 @@ class World:
 
     # ------------------------------------------------------------------ validation
     def _validate(self) -> None:
-        if not self.resolution > 0:
-            raise ScenarioError(f"must be > 0, got {self.resolution}", field="resolution")
-        if not self.dt > 0:
-            raise ScenarioError(f"must be > 0, got {self.dt}", field="dt")
+        for name in ("resolution", "dt"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+                    and math.isfinite(value) and value > 0):
+                raise ScenarioError(f"must be a finite number > 0, got {preview(value)}", field=name)
         b = self.bounds
-        if isinstance(b, RectBounds) and not (b.width > 0 and b.height > 0):
-            raise ScenarioError(f"width and height must be > 0, got {b.width} x {b.height}", field="bounds")
-        if isinstance(b, CircleBounds):
-            if not b.radius > 0:
-                raise ScenarioError(f"radius must be > 0, got {b.radius}", field="bounds.radius")
+        if isinstance(b, RectBounds):
+            if not (_finite(b.width, b.height) and b.width > 0 and b.height > 0):
+                raise ScenarioError(f"width and height must be finite and > 0, got {preview(b.width)} x "
+                                    f"{preview(b.height)}", field="bounds")
+        elif isinstance(b, CircleBounds):
+            if not (_finite(*b.center, b.radius) and b.radius > 0):
+                raise ScenarioError(f"center and radius must be finite, radius > 0, got {preview(b.center)}, "
+                                    f"{preview(b.radius)}", field="bounds")
             if b.center[0] - b.radius < -EPS or b.center[1] - b.radius < -EPS:
                 raise ScenarioError("the circle must lie in x >= 0, y >= 0 (grid origin is (0, 0))",
                                     field="bounds")
+        else:
+            raise ScenarioError(f"must be RectBounds or CircleBounds, got {type(b).__name__}", field="bounds")
+        self._validate_grid_size()
+        for which in ("obstacles", "danger_zones", "moving_obstacles"):
+            if len(getattr(self, which)) > limits.MAX_SHAPES:
+                raise ScenarioError(f"{len(getattr(self, which)):,} entries; at most {limits.MAX_SHAPES:,}",
+                                    field=which)
+        corners = sum(len(o.points) for o in self.obstacles if isinstance(o, Polygon))
+        if corners > limits.MAX_TOTAL_POLYGON_POINTS:
+            raise ScenarioError(f"the polygons have {corners:,} points together; at most "
+                                f"{limits.MAX_TOTAL_POLYGON_POINTS:,}", field="obstacles")
         for i, ob in enumerate(self.obstacles):
             self._validate_shape(ob, f"obstacles[{i}]")
         for i, dz in enumerate(self.danger_zones):
+            if not _finite(*dz.center, dz.radius, dz.weight):
+                raise ScenarioError("center, radius and weight must be finite numbers", field=f"danger_zones[{i}]")
             if dz.radius < 0:
                 raise ScenarioError(f"must be >= 0, got {dz.radius}", field=f"danger_zones[{i}].radius")
             if dz.weight < 0:
@@ -85,7 +115,9 @@ class World:
                 raise ScenarioError(f"id {mo.id!r} is used twice", field=f"{where}.id")
             seen_ids[mo.id] = i
             self._validate_shape(mo.shape, f"{where}.shape", relative=True)
-            if not np.all(np.isfinite(mo.velocity)):
+            if not _finite(*mo.start):
+                raise ScenarioError("must be finite numbers", field=f"{where}.start")
+            if not _finite(*mo.velocity):
                 raise ScenarioError("must be finite", field=f"{where}.velocity")
             if not self.obstacle_fits(mo, np.asarray([mo.start], float))[0]:
                 raise ScenarioError(f"start {_fmt(mo.start)} overlaps a static obstacle or leaves the workspace",
@@ -94,6 +126,16 @@ class World:
         self._validate_robots()
 
     def _validate_shape(self, shape: Any, where: str, relative: bool = False) -> None:
+        if isinstance(shape, Circle) and not _finite(*shape.center, shape.radius):
+            raise ScenarioError("center and radius must be finite numbers", field=where)
+        if isinstance(shape, Rect) and not _finite(*shape.min, *shape.max):
+            raise ScenarioError("min and max must be finite numbers", field=where)
+        if isinstance(shape, Polygon):
+            if len(shape.points) > limits.MAX_POLYGON_POINTS:
+                raise ScenarioError(f"{len(shape.points):,} points; a polygon may have at most "
+                                    f"{limits.MAX_POLYGON_POINTS:,}", field=f"{where}.points")
+            if not np.all(np.isfinite(np.asarray(shape.points, float))):
+                raise ScenarioError("must be finite numbers", field=f"{where}.points")
         if isinstance(shape, Circle):
             if not shape.radius > 0:
                 raise ScenarioError(f"must be > 0, got {shape.radius}", field=f"{where}.radius")
@@ -112,46 +154,80 @@ class World:
             raise ScenarioError(f"unknown shape {type(shape).__name__}", field=where)
 
     def _validate_robots(self) -> None:
+        """Ids unique, radius and speed valid, starts and goals finite, inside the workspace and
+        off static obstacles (checked for all robots at once; the first bad one is named)."""
         ids: dict[str, int] = {}
         for i, r in enumerate(self.robots):
             where = f"robots[{i}]"
+            if not isinstance(r.id, str):
+                raise ScenarioError(f"must be a string, got {preview(r.id)}", field=f"{where}.id")
             if r.id in ids:
-                raise ScenarioError(f"id {r.id!r} is already used by robots[{ids[r.id]}]", field=f"{where}.id")
+                raise ScenarioError(f"id {preview(r.id)!r} is already used by robots[{ids[r.id]}]",
+                                    field=f"{where}.id")
             ids[r.id] = i
-            if not r.radius >= 0:
-                raise ScenarioError(f"must be >= 0, got {r.radius}", field=f"{where}.radius")
-            if not r.max_speed > 0:
-                raise ScenarioError(f"must be > 0, got {r.max_speed}", field=f"{where}.max_speed")
+            if not (_finite(r.radius) and r.radius >= 0):
+                raise ScenarioError(f"must be a finite number >= 0, got {preview(r.radius)}", field=f"{where}.radius")
+            if not (_finite(r.max_speed) and r.max_speed > 0):
+                raise ScenarioError(f"must be a finite number > 0, got {preview(r.max_speed)}",
+                                    field=f"{where}.max_speed")
             for which in ("start", "goal"):
-                p = np.asarray(getattr(r, which), float)
-                if not np.all(np.isfinite(p)):
-                    raise ScenarioError("must be finite numbers", field=f"{where}.{which}")
-                if not self.bounds.contains(p, r.radius):
-                    raise ScenarioError(f"{_fmt(p)} lies outside the workspace", field=f"{where}.{which}")
-                hit = self.obstacle_at(p, r.radius)
-                if hit is not None:
-                    raise ScenarioError(f"{_fmt(p)} lies inside {hit}", field=f"{where}.{which}")
+                value = getattr(r, which)
+                if not (isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2 and _finite(*value)):
+                    raise ScenarioError(f"must be two finite numbers, got {preview(value)}", field=f"{where}.{which}")
+        if not self.robots:
+            return
+        radii = self.radii
+        for which in ("start", "goal"):
+            pts = np.array([getattr(r, which) for r in self.robots], float)
+            bad = ~self.bounds.contains(pts, radii)
+            if bad.any():
+                i = int(np.argmax(bad))
+                raise ScenarioError(f"{_fmt(pts[i])} lies outside the workspace", field=f"robots[{i}].{which}")
+            hit = self.static_hits(pts, pts, radii)
+            if hit.any():
+                i = int(np.argmax(hit))
+                inside = self.obstacle_at(pts[i], radii[i]) or "a static obstacle"
+                raise ScenarioError(f"{_fmt(pts[i])} lies inside {inside}",
+                                    field=f"robots[{i}].{which}")
         if len(self.robots) > 1:
             self._validate_distinct("start")
             self._validate_distinct("goal")
 
+    def _validate_grid_size(self) -> None:
+        """The occupancy grid at the world's resolution must stay within the cell limit."""
+        ext_w, ext_h = self.bounds.extent
+        cells = math.ceil(ext_w / self.resolution - 1e-9) * math.ceil(ext_h / self.resolution - 1e-9)
+        if self.static_map is not None:
+            sm = self.static_map
+            cells = max(cells, math.ceil(sm.width * sm.cell_size / self.resolution - 1e-9)
+                        * math.ceil(sm.height * sm.cell_size / self.resolution - 1e-9))
+        if cells > limits.MAX_GRID_CELLS:
+            raise ScenarioError(f"the workspace ({ext_w:g} x {ext_h:g}) at this resolution is a grid of {cells:,.0f} "
+                                f"cells; at most {limits.MAX_GRID_CELLS:,} (use a coarser resolution)",
+                                field="resolution")
+
     def _validate_distinct(self, which: str) -> None:
+        """No two robots start (or end) on the same spot: overlapping discs, the same point, or
+        for two point robots the same grid cell. A KD-tree finds the candidate pairs, so a
+        hundred thousand robots validate in seconds."""
         pts = np.array([getattr(r, which) for r in self.robots], float)
         radii = np.array([r.radius for r in self.robots], float)
-        point_robot = radii == 0
+        reach = 2 * float(radii.max(initial=0.0)) + math.sqrt(2) * self.resolution + EPS
+        pairs = cKDTree(pts).query_pairs(reach, output_type="ndarray")
+        if len(pairs) == 0:
+            return
+        i, j = pairs[:, 0], pairs[:, 1]
+        d = np.linalg.norm(pts[i] - pts[j], axis=1)
+        clash = (d < radii[i] + radii[j] - EPS) | (d < EPS)
         cells = np.floor(pts / self.resolution + 1e-9).astype(np.int64)
-        d = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
-        clash = d < (radii[:, None] + radii[None]) - EPS
-        clash |= d < EPS
-        both_points = point_robot[:, None] & point_robot[None]
-        clash |= both_points & np.all(cells[:, None] == cells[None], axis=-1)
-        np.fill_diagonal(clash, False)
+        clash |= (radii[i] == 0) & (radii[j] == 0) & np.all(cells[i] == cells[j], axis=1)
         if clash.any():
-            i, j = sorted(np.argwhere(clash)[0])
+            order = np.lexsort((np.maximum(i, j)[clash], np.minimum(i, j)[clash]))
+            a, b = sorted((int(i[clash][order[0]]), int(j[clash][order[0]])))
             where = "start on the same spot" if which == "start" else "share a goal"
-            raise ScenarioError(f"{_fmt(pts[j])} clashes with robots[{i}].{which} {_fmt(pts[i])}: "
+            raise ScenarioError(f"{_fmt(pts[b])} clashes with robots[{a}].{which} {_fmt(pts[a])}: "
                                 f"two robots {where} (same point, overlapping discs, or the same grid cell)",
-                                field=f"robots[{j}].{which}")
+                                field=f"robots[{b}].{which}")
 
     # ------------------------------------------------------------------ queries
     def obstacle_at(self, point: ArrayLike, radius: float = 0.0) -> str | None:

@@ -11,6 +11,7 @@ from pydantic import Field
 
 from swarmpath.errors import ScenarioError
 from swarmpath.registry import register_motion
+from swarmpath.world.fields import StrictBool, Vec2
 from swarmpath.world.motions.base import FloatArray, Footprinted, Motion, StepContext, Terrain
 
 
@@ -24,8 +25,8 @@ class Orbit(Motion):
     clockwise: bool = False
     kind = "orbit"
     parameters = {
-        "center": (Optional[tuple[float, float]], Field(None, description="orbit: the point circled")),
-        "clockwise": (Optional[bool], Field(None, description="orbit: turn clockwise (default false)")),
+        "center": (Optional[Vec2], Field(None, description="orbit: the point circled")),
+        "clockwise": (Optional[StrictBool], Field(None, description="orbit: turn clockwise (default false)")),
     }
 
     @classmethod

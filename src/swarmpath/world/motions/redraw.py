@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pydantic import Field
 
 from swarmpath.registry import register_motion
+from swarmpath.world.fields import StrictBool
 from swarmpath.world.motions.base import FloatArray, Footprinted, Motion, StepContext, Terrain
 from swarmpath.world.shapes import Circle, Rect
 
@@ -30,7 +31,7 @@ class Redraw(Motion):
     kind = "redraw"
     teleports = True
     forecast = "teleport"
-    parameters = {"avoid_robots": (bool | None, Field(None, description=(
+    parameters = {"avoid_robots": (Optional[StrictBool], Field(None, description=(
         "redraw: never reappear on a robot's cell or goal cell (default true); false is the "
         "paper's uniform redraw")))}
 

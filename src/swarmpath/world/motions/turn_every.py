@@ -4,12 +4,13 @@ regular intervals")."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated, Optional
+from typing import Optional
 
 import numpy as np
 from pydantic import Field
 
 from swarmpath.registry import register_motion
+from swarmpath.world.fields import Count
 from swarmpath.world.motions._straight import straight_step
 from swarmpath.world.motions.base import FloatArray, Footprinted, Motion, StepContext
 
@@ -21,7 +22,7 @@ class TurnEvery(Motion):
 
     period: int = 10
     kind = "turn-every"
-    parameters = {"period": (Optional[Annotated[int, Field(ge=1)]],
+    parameters = {"period": (Optional[Count],
                              Field(None, description="turn-every: steps between turns (default 10)"))}
 
     def advance(self, ob: Footprinted, position: FloatArray, velocity: FloatArray, counter: int,

@@ -12,6 +12,8 @@ from pydantic import Field
 
 from swarmpath.errors import ScenarioError
 from swarmpath.registry import register_motion
+from swarmpath.world.fields import StrictBool, Vec2
+from swarmpath.world.limits import MAX_WAYPOINTS
 from swarmpath.world.motions.base import FloatArray, Footprinted, Motion, StepContext, Terrain
 
 
@@ -24,8 +26,9 @@ class Waypoints(Motion):
     loop: bool = True
     kind = "waypoints"
     parameters = {
-        "points": (Optional[list[tuple[float, float]]], Field(None, description="waypoints: the points to visit")),
-        "loop": (Optional[bool], Field(None, description="waypoints: start over after the last point (default true)")),
+        "points": (Optional[list[Vec2]], Field(None, max_length=MAX_WAYPOINTS,
+                                               description="waypoints: the points to visit")),
+        "loop": (Optional[StrictBool], Field(None, description="waypoints: start over after the last point (default true)")),
     }
 
     @classmethod
