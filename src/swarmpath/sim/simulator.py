@@ -16,16 +16,20 @@ from typing import Callable
 import numpy as np
 
 from swarmpath.control.base import Controller, Decision
+from swarmpath.planning.base import Plan
 from swarmpath.errors import ConfigError
 from swarmpath.rng import make_rng
 from swarmpath.sim.collisions import step_contacts
 from swarmpath.control.observation import Observation, SensingConfig
-from swarmpath.sim.progress import distinct_positions
+from swarmpath.sim.progress import ProgressWatch, distinct_positions, unreachable_goals
 from swarmpath.sim.sensing import sense
 from swarmpath.sim.trajectory import ALL_REACHED, DEADLOCK, TRUNCATED, Trajectory
 from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
+from swarmpath.world.world import World
 
 GOAL_TOLERANCE = 1e-9
+#: Behaviour names a run may use (trajectories store them as int8 indices).
+MAX_MODE_NAMES = 127
 
 
 def default_max_steps(world, plan=None) -> int:
@@ -45,20 +49,32 @@ def default_max_steps(world, plan=None) -> int:
 class Simulator:
     """Runs ``controller`` on ``world`` (with an optional offline ``plan``) for one seed."""
 
-    def __init__(self, world, controller: Controller, plan=None, *, seed: int = 0, max_steps: int | None = None,
-                 sensing: SensingConfig | None = None, deadlock_window: int = 60,
-                 progress: Callable[[int, int], None] | None = None):
-        if max_steps is not None and max_steps < 1:
-            raise ConfigError(f"max_steps must be >= 1, got {max_steps}")
-        if deadlock_window < 2:
-            raise ConfigError(f"deadlock_window must be >= 2, got {deadlock_window}")
+    def __init__(self, world: World, controller: Controller, plan: Plan | None = None, *, seed: int = 0,
+                 max_steps: int | None = None, sensing: SensingConfig | None = None, deadlock_window: int = 60,
+                 progress_window: int | None = None, progress: Callable[[int, int], None] | None = None):
+        if not isinstance(world, World):
+            raise ConfigError(f"the simulator needs a World, got {type(world).__name__}")
+        if not isinstance(controller, Controller):
+            raise ConfigError(f"the simulator needs a Controller, got {type(controller).__name__}")
+        if plan is not None and not isinstance(plan, Plan):
+            raise ConfigError(f"plan must be a Plan or None, got {type(plan).__name__}")
+        if world.n_robots == 0:
+            raise ConfigError(f"world {world.name!r} has no robots to simulate")
+        for name, value, low in (("max_steps", max_steps, 1), ("deadlock_window", deadlock_window, 2),
+                                 ("progress_window", progress_window, 1), ("seed", seed, 0)):
+            if value is None and name in ("max_steps", "progress_window"):
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+                raise ConfigError(f"{name} must be a whole number >= {low}, got {value!r}")
         self.world = world
         self.controller = controller
         self.plan = plan
-        self.seed = seed
-        self.max_steps = max_steps or default_max_steps(world, plan)
+        self.seed = int(seed)
+        budget = default_max_steps(world, plan)
+        self.max_steps = int(max_steps) if max_steps is not None else budget
         self.sensing = sensing or SensingConfig()
-        self.deadlock_window = deadlock_window
+        self.deadlock_window = int(deadlock_window)
+        self.progress_window = int(progress_window) if progress_window is not None else budget
         self.progress = progress
 
     def run(self) -> Trajectory:
@@ -72,11 +88,19 @@ class Simulator:
         self.controller.reset(world, self.plan, controller_rng)
         reset_time = time.perf_counter() - t0
 
+        watch = ProgressWatch(goals, world.starts, self.progress_window, GOAL_TOLERANCE)
+        hopeless = np.zeros(n, dtype=bool)
+        if getattr(self.controller, "capabilities", None) is not None and self.controller.capabilities.grid_based:
+            hopeless = unreachable_goals(world, world.radii)
+
         state = initial_obstacle_state(world)
         positions = [world.starts.copy()]
         obstacle_positions = [state.positions.copy()]
         contacts, events, modes, mode_names = [], [], [], {}
         status = TRUNCATED
+        for i in np.flatnonzero(hopeless):
+            events.append({"step": 0, "kind": "goal_unreachable", "robot": int(i),
+                           "detail": "no path in the static world from the start to the goal"})
         pos = positions[0]
         previous_obstacles = state.positions.copy()
         act_time = 0.0
@@ -91,11 +115,15 @@ class Simulator:
             decision = self.controller.act(observation)
             act_time += time.perf_counter() - t_act
             if not isinstance(decision, Decision):
-                decision = Decision(np.asarray(decision, float))
+                try:
+                    decision = Decision(np.asarray(decision, float))
+                except (TypeError, ValueError):
+                    raise ConfigError(f"controller returned {type(decision).__name__}, not a Decision or an "
+                                      "array of positions") from None
             new_pos = self._validated(decision.positions, pos, speeds, step, events)
             contacts.extend(step_contacts(world, step, pos, new_pos, obs_before, obs_after))
             if decision.modes is not None:
-                modes.append([mode_names.setdefault(m, len(mode_names)) for m in decision.modes])
+                modes.append(self._mode_indices(decision.modes, mode_names, n))
             elif modes:
                 modes.append([mode_names.setdefault("", len(mode_names))] * n)
             for ev in decision.events:
@@ -106,8 +134,19 @@ class Simulator:
             obstacle_positions.append(obs_after.copy())
             if self.progress is not None:
                 self.progress(step, self.max_steps)
-            if np.all(np.linalg.norm(pos - goals, axis=1) <= GOAL_TOLERANCE):
+            arrived = np.linalg.norm(pos - goals, axis=1) <= GOAL_TOLERANCE
+            if np.all(arrived):
                 status = ALL_REACHED
+                break
+            if np.all(arrived | hopeless):
+                status = DEADLOCK
+                events.append({"step": step, "kind": "deadlock", "detail": "every robot not at its goal has a goal "
+                               "it cannot reach (see the goal_unreachable events)"})
+                break
+            if watch.update(step, pos):
+                status = DEADLOCK
+                events.append({"step": step, "kind": "deadlock",
+                               "detail": f"no robot came closer to its goal in {self.progress_window} steps"})
                 break
             if step % self.deadlock_window == 0 and self._stalled(positions, goals):
                 status = DEADLOCK
@@ -132,6 +171,16 @@ class Simulator:
                   "sim_time_s": sim_time, "controller_time_s": act_time + reset_time,
                   "controller_reset_s": reset_time, "max_steps": self.max_steps},
         )
+
+    @staticmethod
+    def _mode_indices(names, mode_names: dict[str, int], n: int) -> list[int]:
+        """Indices of a step's behaviour names (one per robot) in the run's list of names."""
+        if isinstance(names, str) or len(names) != n:
+            raise ConfigError(f"controller returned modes for {len(names)} robots, expected {n}")
+        out = [mode_names.setdefault(str(m), len(mode_names)) for m in names]
+        if len(mode_names) > MAX_MODE_NAMES:
+            raise ConfigError(f"controller reported more than {MAX_MODE_NAMES} distinct behaviour names (modes)")
+        return out
 
     def _validated(self, proposed, pos, speeds, step: int, events: list) -> np.ndarray:
         """The proposed positions with invalid moves replaced by staying put (and recorded)."""
