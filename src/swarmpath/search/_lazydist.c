@@ -187,6 +187,22 @@ static void rekey(const LazyObject *L, Table *T, int32_t target) {
     for (Py_ssize_t i = T->hsize / 2 - 1; i >= 0; i--) sift_down(T->heap, T->hsize, i);
 }
 
+static inline Tile *tile_xy(const LazyObject *L, const Table *T, int x, int y) {
+    int32_t k = T->dir[(y >> TILE_SHIFT) * L->tw + (x >> TILE_SHIFT)];
+    return k < 0 ? NULL : &T->tiles[k];
+}
+
+static inline int in_tile_xy(int x, int y) {
+    return ((y & (TILE_SIDE - 1)) << TILE_SHIFT) | (x & (TILE_SIDE - 1));
+}
+
+static inline double heuristic_xy(const LazyObject *L, int x, int y, int tx, int ty) {
+    int dx = abs(x - tx), dy = abs(y - ty);
+    if (!L->diagonal) return (double)(dx + dy);
+    int mn = dx < dy ? dx : dy, mx = dx < dy ? dy : dx;
+    return (double)(mx - mn) + SQRT2 * (double)mn;
+}
+
 /* The exact cost from cell v to the table's goal (INFINITY when unreachable), or -1 on
  * memory exhaustion. v must be a valid cell index. */
 static double table_query(LazyObject *L, Table *T, int32_t v) {
@@ -206,39 +222,52 @@ static double table_query(LazyObject *L, Table *T, int32_t v) {
     } else if (heuristic(L, T->target, v) > REKEY_DISTANCE) {
         rekey(L, T, v);
     }
-    int nmoves = L->diagonal ? 8 : 4;
+    const int W = L->w, H = L->h, nmoves = L->diagonal ? 8 : 4;
+    const int tx = T->target % W, ty = T->target / W;
+    const uint8_t *B = L->blocked;
     while (T->hsize > 0) {
         Item it = heap_pop(T);
         int32_t u = it.idx;
-        Tile *tu = tile_get(L, T, u);
-        int ku = in_tile(L, u);
+        int ux = u % W, uy = u / W;
+        Tile *tu = tile_xy(L, T, ux, uy);
+        int ku = in_tile_xy(ux, uy);
         if (tu->closed >> ku & 1) continue;
         double gu = pair_cost(it.a, it.b);
         if (gu > tu->g[ku]) continue; /* stale: a cheaper entry was pushed later */
         tu->closed |= (uint64_t)1 << ku;
         tu->g[ku] = gu;
         T->expanded++;
-        int ux = u % L->w, uy = u / L->w;
+        /* free orthogonal neighbours first: the diagonals need both of theirs */
+        int fe = ux + 1 < W && !B[u + 1], fw = ux > 0 && !B[u - 1];
+        int fn = uy + 1 < H && !B[u + W], fs = uy > 0 && !B[u - W];
         for (int m = 0; m < nmoves; m++) {
-            int vx = ux + DX[m], vy = uy + DY[m];
-            if (!free_at(L, vx, vy)) continue;
-            int32_t na = it.a, nb = it.b;
-            if (m >= 4) {
-                if (!free_at(L, vx, uy) || !free_at(L, ux, vy)) continue;
-                nb++;
-            } else {
-                na++;
+            int dx = DX[m], dy = DY[m];
+            int ok;
+            switch (m) {
+                case 0: ok = fe; break;
+                case 1: ok = fw; break;
+                case 2: ok = fn; break;
+                case 3: ok = fs; break;
+                default: {
+                    int ox = dx > 0 ? fe : fw, oy = dy > 0 ? fn : fs;
+                    ok = ox && oy && !B[u + dy * W + dx];
+                }
             }
-            int32_t w = vy * L->w + vx;
-            Tile *tw = tile_touch(L, T, w);
-            if (!tw) return -1;
-            tu = tile_get(L, T, u); /* tile_touch may have moved the tiles */
-            int kw = in_tile(L, w);
+            if (!ok) continue;
+            int vx = ux + dx, vy = uy + dy;
+            int32_t w = u + dy * W + dx;
+            Tile *tw = tile_xy(L, T, vx, vy);
+            if (!tw) {
+                tw = tile_touch(L, T, w);
+                if (!tw) return -1;
+            }
+            int kw = in_tile_xy(vx, vy);
             if (tw->closed >> kw & 1) continue;
+            int32_t na = it.a + (m < 4), nb = it.b + (m >= 4);
             double nd = pair_cost(na, nb);
             if (nd < tw->g[kw]) {
                 tw->g[kw] = nd;
-                Item ni = {nd + heuristic(L, w, T->target), na, nb, w};
+                Item ni = {nd + heuristic_xy(L, vx, vy, tx, ty), na, nb, w};
                 if (heap_push(T, ni) < 0) return -1;
             }
         }
