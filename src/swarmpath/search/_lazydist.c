@@ -86,7 +86,7 @@ static inline double heuristic(const LazyObject *L, int32_t v, int32_t t) {
     return (double)(mx - mn) + SQRT2 * (double)mn;
 }
 
-/* ------------------------------------------------------------------ heap (binary, min f, then max g) */
+/* ------------------------------------------------------------------ heap (4-ary, min f, then max g) */
 static inline int item_less(const Item *x, const Item *y) {
     if (x->f != y->f) return x->f < y->f;
     return pair_cost(x->a, x->b) > pair_cost(y->a, y->b);
@@ -95,12 +95,14 @@ static inline int item_less(const Item *x, const Item *y) {
 static void sift_down(Item *hp, Py_ssize_t n, Py_ssize_t i) {
     Item it = hp[i];
     while (1) {
-        Py_ssize_t c = 2 * i + 1;
+        Py_ssize_t c = 4 * i + 1;
         if (c >= n) break;
-        if (c + 1 < n && item_less(&hp[c + 1], &hp[c])) c++;
-        if (!item_less(&hp[c], &it)) break;
-        hp[i] = hp[c];
-        i = c;
+        Py_ssize_t best = c, end = c + 4 < n ? c + 4 : n;
+        for (Py_ssize_t k = c + 1; k < end; k++)
+            if (item_less(&hp[k], &hp[best])) best = k;
+        if (!item_less(&hp[best], &it)) break;
+        hp[i] = hp[best];
+        i = best;
     }
     hp[i] = it;
 }
@@ -115,7 +117,7 @@ static int heap_push(Table *T, Item it) {
     }
     Py_ssize_t i = T->hsize++;
     while (i > 0) {
-        Py_ssize_t p = (i - 1) >> 1;
+        Py_ssize_t p = (i - 1) >> 2;
         if (!item_less(&it, &T->heap[p])) break;
         T->heap[i] = T->heap[p];
         i = p;
@@ -184,7 +186,7 @@ static void rekey(const LazyObject *L, Table *T, int32_t target) {
     T->target = target;
     for (Py_ssize_t i = 0; i < T->hsize; i++)
         T->heap[i].f = pair_cost(T->heap[i].a, T->heap[i].b) + heuristic(L, T->heap[i].idx, target);
-    for (Py_ssize_t i = T->hsize / 2 - 1; i >= 0; i--) sift_down(T->heap, T->hsize, i);
+    for (Py_ssize_t i = (T->hsize - 2) / 4; i >= 0; i--) sift_down(T->heap, T->hsize, i);
 }
 
 static inline Tile *tile_xy(const LazyObject *L, const Table *T, int x, int y) {

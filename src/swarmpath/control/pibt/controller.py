@@ -23,7 +23,7 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.observation import Observation
-from swarmpath.control.pibt.core import (PUSHED, STAY, check_connectivity, GridGraph, decision_order,
+from swarmpath.control.pibt.core import (DIAGONAL_MOVE, PUSHED, STAY, check_connectivity, GridGraph, decision_order,
                                          pibt_step, static_moves, update_priorities)
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
@@ -36,19 +36,33 @@ FloatArray = NDArray[np.float64]
 MOVE_COST = np.linalg.norm(GRID_MOVES, axis=1)
 
 
-def _obstacle_danger(forecast: ObstacleForecast | None, positions: FloatArray, previous: FloatArray
-                     ) -> NDArray[np.bool_] | None:
-    """Cells (height, width) a robot must not end this step in: each moving obstacle's
-    footprint grown by the robots' radius, now and swept to every position its motion model
-    can take next step (bounce, bounce8: straight on or the reflections; random-walk: the 8
-    grid steps; turn-every and waypoints: anywhere within ``speed * dt``; redraw: its
-    landing cell avoids robots). None without moving obstacles.
+def _obstacle_danger(forecast: ObstacleForecast | None, positions: FloatArray, previous: FloatArray,
+                     steps: int = 2) -> list[NDArray[np.bool_]] | None:
+    """Cells (height, width) moving obstacles may cover: ``[D_1, ..., D_steps]``. D_1 is the
+    cells a robot must not end this step in: each obstacle's footprint grown by the robots'
+    radius, now and swept to every position its motion model can take next step (bounce,
+    bounce8: straight on or the reflections; random-walk: the 8 grid steps; turn-every and
+    waypoints: anywhere within ``speed * dt``; redraw: its landing cell avoids robots); D_k
+    the same k steps ahead (:meth:`ObstacleForecast.coverage`). None without moving obstacles.
 
     One small function so that a motion-model registry with a worst-case reach can replace
-    :meth:`ObstacleForecast.danger` here."""
+    the forecast here."""
     if forecast is None or forecast.m == 0:
         return None
-    return forecast.danger(positions, previous)
+    return forecast.coverage(positions, previous, steps)
+
+
+def escape_cells(danger_next: NDArray[np.bool_], moves: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Cells (height, width) from which some move (staying included, ``moves`` (h, w, 9))
+    ends outside ``danger_next``: a robot entering any other cell would be cornered there
+    next step whatever it does."""
+    h, w = danger_next.shape
+    safe = np.zeros((h + 2, w + 2), bool)
+    safe[1:-1, 1:-1] = ~danger_next
+    out = np.zeros((h, w), bool)
+    for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+        out |= moves[:, :, a] & safe[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+    return out
 
 
 @register_controller("pibt")
@@ -67,15 +81,20 @@ class PIBTController(Controller):
     yield_way : bool
         A robot pushed off its goal steps out of the pusher's way rather than ahead of it
         (True; see :func:`~swarmpath.control.pibt.core.pibt_step`).
+    lookahead : int
+        With moving obstacles: 1 (default) also keeps robots out of cells from which every
+        move may be swept by an obstacle the step after (a dead end an obstacle is heading
+        into); 0 looks at the next step only.
     release_at_goal : bool
         Free a robot's distance table when it reaches its goal cell (True).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
-    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True,
+    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
                  release_at_goal: bool = True):
         self.connectivity = connectivity
+        self.lookahead = lookahead
         self.swap = swap
         self.yield_way = yield_way
         self.release_at_goal = release_at_goal
@@ -83,10 +102,13 @@ class PIBTController(Controller):
     # ------------------------------------------------------------------ reset
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         check_connectivity(self.connectivity, "pibt")
+        if self.lookahead not in (0, 1):
+            raise ConfigError(f"pibt: lookahead must be 0 or 1, got {self.lookahead!r}")
         n = world.n_robots
         res = world.resolution
         radius = float(world.radii.max(initial=0.0))
         self.reach_ = world.max_speeds * world.dt
+        self.diag_ok_ = self.reach_ >= res * np.sqrt(2) * (1 - 1e-9)
         slow = np.flatnonzero(self.reach_ < res * (1 - 1e-9))
         if len(slow):
             raise ConfigError(f"pibt moves one grid cell per step: robot {world.robots[slow[0]].id!r} has "
@@ -138,16 +160,19 @@ class PIBTController(Controller):
         dist[lost] = np.where(np.isnan(dist[lost]), np.nan, 0.0)
         return dist
 
-    def _targets(self, pos: FloatArray, cells: NDArray[np.int64]) -> tuple[FloatArray, NDArray[np.bool_]]:
-        """Where each move takes each robot (n, 9, 2) and whether it is within reach: cell
+    def _targets(self, pos: FloatArray, cells: NDArray[np.int64], rows: NDArray[np.int64]
+                 ) -> tuple[FloatArray, NDArray[np.bool_]]:
+        """Where each move takes robots ``rows`` (k, 9, 2) and whether it is within reach: cell
         centres; the exact goal on entering or staying in the goal cell when in reach."""
+        pos, cells = pos[rows], cells[rows]
+        reach = self.reach_[rows, None] * (1 + 1e-9) + 1e-12
         dest = cells[:, None, :] + GRID_MOVES[None]
         targets = self.grid_.centers(dest)
-        to_goal = np.all(dest == self.goal_cells_[:, None, :], axis=2)
-        goal_t = np.broadcast_to(self.goals_[:, None, :], targets.shape)
-        goal_reach = np.linalg.norm(goal_t - pos[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9) + 1e-12
+        to_goal = np.all(dest == self.goal_cells_[rows, None, :], axis=2)
+        goal_t = np.broadcast_to(self.goals_[rows, None, :], targets.shape)
+        goal_reach = np.linalg.norm(goal_t - pos[:, None, :], axis=2) <= reach
         targets = np.where((to_goal & goal_reach)[..., None], goal_t, targets)
-        in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9) + 1e-12
+        in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= reach
         in_reach[:, STAY] = True
         return targets, in_reach
 
@@ -157,17 +182,29 @@ class PIBTController(Controller):
         cells = self._cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
         dist = self._distances(cells, in_goal_cell)
-        targets, in_reach = self._targets(pos, cells)
-        allowed = ~np.isnan(dist) & in_reach
+        # most robots stand on a cell centre away from their goal: every move ends on a centre
+        # within reach (diagonals need reach sqrt 2); the others are worked out exactly
+        centre = self.grid_.centers(cells)
+        special = np.flatnonzero((np.abs(pos - centre).max(axis=1) > 1e-9)
+                                 | (np.abs(cells - self.goal_cells_).max(axis=1) <= 1))
+        allowed = ~np.isnan(dist) & (self.diag_ok_[:, None] | ~DIAGONAL_MOVE[None, :])
+        special_targets, special_reach = self._targets(pos, cells, special)
+        allowed[special] = ~np.isnan(dist[special]) & special_reach
         allowed[:, STAY] = True
-        danger = _obstacle_danger(self.forecast_, obs.obstacle_positions, obs.obstacle_previous)
+        danger = _obstacle_danger(self.forecast_, obs.obstacle_positions, obs.obstacle_previous,
+                                  1 + self.lookahead)
         urgent = np.zeros(n, bool)
         if danger is not None:
             dest = cells[:, None, :] + GRID_MOVES[None]
             xs = np.clip(dest[..., 0], 0, self.width_ - 1)
             ys = np.clip(dest[..., 1], 0, self.height_ - 1)
-            allowed &= ~danger[ys, xs]
-            urgent = danger[cells[:, 1], cells[:, 0]]
+            allowed &= ~danger[0][ys, xs]
+            urgent = danger[0][cells[:, 1], cells[:, 0]]
+            if self.lookahead:
+                # keep out of cells that leave no way out next step, unless nothing else is left
+                strict = allowed & escape_cells(danger[1], self.moves_)[ys, xs]
+                keep = strict.any(axis=1)
+                allowed[keep] = strict[keep]
         self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
         order = decision_order(self.priority_, urgent)
         tie = self.rng_.random((n, 9))
@@ -177,7 +214,8 @@ class PIBTController(Controller):
                            slots=self.handles_, tables=self.tables_._c, swap=self.swap,
                            yield_way=self.yield_way)
         moves = result.moves.astype(np.int64)
-        new = targets[np.arange(n), moves]
+        new = centre + GRID_MOVES[moves] * self.grid_.resolution
+        new[special] = special_targets[np.arange(len(special)), moves[special]]
         events: list[dict] = []
         held = self._exact_check(pos, new, cells)
         for i in held:
