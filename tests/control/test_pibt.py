@@ -249,32 +249,34 @@ def test_success_over_seeds_on_crowded_maps():
 
 
 # ---------------------------------------------------------------------------- moving obstacles
-def corridor_world(kind: str, n_obstacles: int, n_robots: int = 6) -> World:
-    """Narrow passages: two rooms joined by 2-wide corridors (with a door and a dead end);
-    robots cross from one room to the other while obstacles of ``kind`` move in the rooms."""
-    w, h = 30, 14
+def corridor_world(kind: str, n_obstacles: int, n_robots: int = 6, room: int = 12, height: int = 14) -> World:
+    """Narrow passages: two rooms (``room`` cells wide) joined by 2-wide corridors, one with a
+    1-cell door, and a dead-end niche; robots cross from one room to the other while
+    obstacles of ``kind`` move in the rooms."""
+    w, h = 2 * room + 6, height
     blocked = np.zeros((h, w), bool)
-    blocked[:, 12:18] = True
-    blocked[3:5, 12:18] = False          # a 2-wide corridor
-    blocked[9:11, 12:18] = False         # another one
-    blocked[10, 15] = True               # a door: 1 cell wide in the second corridor
-    blocked[6:8, 18:22] = True           # a dead-end niche on the right
-    blocked[7, 18:21] = False
+    blocked[:, room:room + 6] = True
+    blocked[3:5, room:room + 6] = False          # a 2-wide corridor
+    blocked[h - 5:h - 3, room:room + 6] = False  # another one
+    blocked[h - 4, room + 3] = True              # a door: 1 cell wide in the second corridor
+    blocked[h // 2 - 1:h // 2 + 1, room + 6:room + 10] = True   # a dead-end niche on the right
+    blocked[h // 2, room + 6:room + 9] = False
     robots = []
     for i in range(n_robots):
-        y = 1 + (2 * i) % 12
-        x = 1.5 + i // 6
-        robots.append(Robot(f"r{i}", (x, y + 0.5), (28.5 - i // 6, 12.5 - y), 0.0, S2))
+        y = 1 + (2 * i) % (h - 2)
+        x = 1.5 + i // ((h - 1) // 2)
+        robots.append(Robot(f"r{i}", (x, y + 0.5), (w - 1.5 - i // ((h - 1) // 2), h - 1.5 - y + 1), 0.0, S2))
     motion = {"bounce": Bounce(), "bounce8": Bounce8(), "turn-every": TurnEvery(5), "random-walk": RandomWalk(),
               "redraw": Redraw(), "waypoints": None}[kind]
     obstacles = []
     rng = np.random.default_rng(n_obstacles)
+    columns = [c + 0.5 for c in range(3, room - 2, 2)] + [c + 0.5 for c in range(room + 11, w - 4, 2)]
     for j in range(n_obstacles):
-        x = float(rng.choice([6.5, 8.5, 22.5, 24.5])) + (j % 3)
-        y = float(2.5 + (j * 3) % 10)
+        x = float(columns[j % len(columns)])
+        y = float(2.5 + (3 * j + j // len(columns)) % (h - 4))
         if kind == "waypoints":
             mo = MovingObstacle(f"o{j}", Circle((0, 0), 0.4), (x, y), (0.5, 0.0),
-                                Waypoints(((x, 12.5), (x, 1.5)), True))
+                                Waypoints(((x, h - 1.5), (x, 1.5)), True))
         else:
             shape = Rect((-0.4, -0.4), (0.4, 0.4)) if j % 2 else Circle((0, 0), 0.4)
             mo = MovingObstacle(f"o{j}", shape, (x, y), (0.0, 0.7) if j % 2 else (0.7, 0.0), motion)
@@ -299,13 +301,15 @@ def test_narrow_passages_with_moving_obstacles(kind, count):
 
 @pytest.mark.slow
 def test_many_obstacles_and_robots_in_the_passages_over_seeds():
-    for kind in ("bounce8", "random-walk", "turn-every"):
-        world = corridor_world(kind, 40, n_robots=10)
-        for seed in range(3):
+    for kind in ("bounce8", "random-walk", "waypoints"):
+        world = corridor_world(kind, 40, n_robots=10, room=22, height=24)
+        for seed in range(2):
             traj = run(world, seed=seed, max_steps=600)
             kinds = [c.kind for c in traj.contacts]
             assert "robot_robot" not in kinds and "robot_static" not in kinds, (kind, seed)
             assert arrived(world, traj).all(), (kind, seed)
+            cornered = {(e["step"], e["robot"]) for e in traj.events if e.get("kind") == "no_escape"}
+            assert all((c.step, c.robot) in cornered or (c.step - 1, c.robot) in cornered for c in traj.contacts)
 
 
 def test_conflict_table_is_the_move_rules_table():

@@ -85,12 +85,13 @@ class LaCAMPlanner(Planner):
             self._check_cells(grid, world, goals_xy, "goal", PlanStatus.INVALID_GOAL, status, reasons)
         tables = LazyDistanceTables(grid.blocked, connectivity=self.connectivity)
         handles = np.full(n, -1, np.int64)
-        for i in range(n):
-            if status[i] is None:
-                handles[i] = tables.acquire(goals_xy[i])
-                if not np.isfinite(tables.distance(handles[i], starts_xy[i])):
-                    status[i] = PlanStatus.INFEASIBLE
-                    reasons[i] = "the goal is cut off from the start on the grid"
+        ok = np.flatnonzero([st is None for st in status])
+        if len(ok):
+            handles[ok] = tables.acquire_many(goals_xy[ok])
+            cut = ok[~np.isfinite(tables.distances(handles[ok], starts_xy[ok]))]
+            for i in cut.tolist():
+                status[i] = PlanStatus.INFEASIBLE
+                reasons[i] = "the goal is cut off from the start on the grid"
         diag = {"connectivity": self.connectivity, "grid": [w, h], "radius": radius}
         bad = [i for i in range(n) if status[i] is not None]
         if bad:
@@ -120,7 +121,7 @@ class LaCAMPlanner(Planner):
         robots = tuple(RobotPlan(r.id, PlanStatus.EXACT, paths[i], {"makespan": makespan},
                                  np.arange(len(paths[i]), dtype=np.int64)) for i, r in enumerate(world.robots))
         diag["makespan"] = makespan
-        diag["sum_of_costs"] = int(sum(arrival_step(p, r.goal) for p, r in zip(paths, world.robots)))
+        diag["sum_of_costs"] = sum_of_costs(result.configs, flat(goals_xy))
         return Plan("lacam", robots, time.perf_counter() - t0, diag)
 
     @staticmethod
@@ -155,6 +156,17 @@ class LaCAMPlanner(Planner):
             tail.append(goals[None])          # and end on the exact goals
         allp = np.concatenate(head + [centres[1:]] + tail, axis=0)
         return [np.ascontiguousarray(allp[:, i]) for i in range(allp.shape[1])]
+
+
+def sum_of_costs(configs: np.ndarray, goals: np.ndarray) -> int:
+    """Sum over robots of the step after which each stays on its goal cell: configurations
+    (T + 1, n) and goals (n,) as flat cells (the usual MAPF sum of costs, waits included)."""
+    off = configs != goals[None, :]
+    if not off.any():
+        return 0
+    t = off.shape[0]
+    last = t - np.argmax(off[::-1], axis=0)          # one past the last step off the goal
+    return int(np.where(off.any(axis=0), last, 0).sum())
 
 
 def arrival_step(path: np.ndarray, goal) -> int:

@@ -141,7 +141,8 @@ def lacam_search(graph: GridGraph, tables: LazyDistanceTables, handles: IntArray
         forced = np.full(n, -1, np.int8)
         if who:
             forced[who] = where
-        res = pibt_step(graph, cells, np.nan_to_num(dist, nan=np.inf), allowed, rng.random((n, 9)), node.order,
+        # NaN marks impossible moves, which are not allowed: PIBT never compares them
+        res = pibt_step(graph, cells, dist, allowed, rng.random((n, 9)), node.order,
                         goals=goals, slots=handles, tables=tables._c, swap=swap, yield_way=True,
                         forced=forced, forced_order=np.asarray(who, np.int32))
         calls += 1
