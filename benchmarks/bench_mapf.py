@@ -19,6 +19,11 @@ PIBT solver; ours is the ``pibt`` controller through swarmpath's simulator (its 
 time is the PIBT time; the simulator's checking and recording come on top and are shown).
 Targets: success wherever pymapf succeeds, SOC within 1.1x of pymapf's LaCAM, wall time at
 most 1/10 of it.
+
+``--sweep`` instead runs the acceptance sweep on every MovingAI scen in tests/data: agent
+counts from 25 to 400 (or the file's maximum) in steps of 25, ``lacam`` (8-connected, 10 s)
+and the ``pibt`` controller through the simulator (success = every robot at its goal with
+zero contacts), for ``--seeds`` seeds.
 """
 from __future__ import annotations
 
@@ -137,11 +142,45 @@ def fmt(result, lb) -> str:
     return f"SOC {soc:>6} ({soc / lb:5.3f}x) mk {mk:>4}"
 
 
+SWEEP = [("random-32-32-10", "random-32-32-10-random-1"), ("room-32-32-4", "room-32-32-4-even-10"),
+         ("maze-32-32-2", "maze-32-32-2-even-10"), ("den312d", "den312d-even-10"), ("empty-8-8", "empty-8-8-even-10")]
+
+
+def sweep(seeds: int) -> None:
+    from swarmpath.world import world_from_movingai
+
+    for name, scen in SWEEP:
+        rows = len(read_scen(DATA / f"{scen}.scen", read_map(DATA / f"{name}.map")))
+        counts = list(range(25, min(400, rows) + 1, 25)) or [rows]
+        if name == "empty-8-8":
+            counts = [8, 16, 24, 32]
+        line = []
+        worst_lacam = 0.0
+        for n in counts:
+            world = world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n)
+            for seed in range(seeds):
+                t = time.perf_counter()
+                plan = LaCAMPlanner(time_limit=10.0).plan(world, rng=seed)
+                worst_lacam = max(worst_lacam, time.perf_counter() - t)
+                traj = Simulator(world, PIBTController(), seed=seed).run()
+                pibt_ok = traj.status.value == "all_reached" and not traj.contacts
+                if not plan or not pibt_ok:
+                    line.append(f"n={n} seed={seed}: lacam {'ok' if plan else 'FAIL'}, pibt "
+                                f"{'ok' if pibt_ok else f'FAIL ({traj.status.value}, {len(traj.contacts)} contacts)'}")
+        print(f"{name}: counts {counts[0]}..{counts[-1]}, {seeds} seeds: slowest lacam {worst_lacam:.3f} s; "
+              + ("all solved by both" if not line else "; ".join(line)), flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--agents", type=int, nargs="+", default=[100, 200, 300, 400])
     ap.add_argument("--time-limit", type=float, default=60.0)
+    ap.add_argument("--sweep", action="store_true")
+    ap.add_argument("--seeds", type=int, default=3)
     args = ap.parse_args()
+    if args.sweep:
+        sweep(args.seeds)
+        return
     lacam_soc, lacam_time = [], []
     for name, scen in INSTANCES:
         for n in args.agents:
