@@ -64,6 +64,8 @@ typedef struct {
     Py_ssize_t ntables, cap;
     Py_ssize_t *free_slots;
     Py_ssize_t nfree;
+    double *landmarks;      /* optional (cells, nlm) exact costs from landmark cells (ALT) */
+    int nlm;
 } LazyObject;
 
 static const int DX[8] = {1, -1, 0, 0, 1, 1, -1, -1};
@@ -78,12 +80,38 @@ static inline int free_at(const LazyObject *L, int x, int y) {
     return x >= 0 && y >= 0 && x < L->w && y < L->h && !L->blocked[(Py_ssize_t)y * L->w + x];
 }
 
-static inline double heuristic(const LazyObject *L, int32_t v, int32_t t) {
-    if (t < 0) return 0.0;
-    int dx = abs(v % L->w - t % L->w), dy = abs(v / L->w - t / L->w);
+static inline double octile_xy(const LazyObject *L, int x, int y, int tx, int ty) {
+    int dx = abs(x - tx), dy = abs(y - ty);
     if (!L->diagonal) return (double)(dx + dy);
     int mn = dx < dy ? dx : dy, mx = dx < dy ? dy : dx;
     return (double)(mx - mn) + SQRT2 * (double)mn;
+}
+
+/* The heuristic toward target t: the octile (Manhattan) distance and, with landmarks, the
+ * differential heuristic max_L |d(L, v) - d(L, t)| (Goldberg & Harrelson's ALT), both
+ * consistent, so their maximum is. The landmark costs are sums of doubles (a few ulps off),
+ * so a margin of 1e-9 relative keeps the bound below the true cost; distinct grid costs
+ * a + b sqrt 2 of any realistic path differ by far more, so no cell is closed early. */
+static inline double heuristic_xy(const LazyObject *L, int x, int y, int tx, int ty) {
+    double h = octile_xy(L, x, y, tx, ty);
+    if (L->nlm) {
+        const double *a = L->landmarks + ((Py_ssize_t)y * L->w + x) * L->nlm;
+        const double *b = L->landmarks + ((Py_ssize_t)ty * L->w + tx) * L->nlm;
+        for (int k = 0; k < L->nlm; k++) {
+            double d = a[k] - b[k];
+            if (d < 0) d = -d;
+            if (d > h && d < INFINITY) {
+                double lb = d - 1e-9 * (1.0 + d);
+                if (lb > h) h = lb;
+            }
+        }
+    }
+    return h;
+}
+
+static inline double heuristic(const LazyObject *L, int32_t v, int32_t t) {
+    if (t < 0) return 0.0;
+    return heuristic_xy(L, v % L->w, v / L->w, t % L->w, t / L->w);
 }
 
 /* ------------------------------------------------------------------ heap (4-ary, min f, then max g) */
@@ -198,13 +226,6 @@ static inline int in_tile_xy(int x, int y) {
     return ((y & (TILE_SIDE - 1)) << TILE_SHIFT) | (x & (TILE_SIDE - 1));
 }
 
-static inline double heuristic_xy(const LazyObject *L, int x, int y, int tx, int ty) {
-    int dx = abs(x - tx), dy = abs(y - ty);
-    if (!L->diagonal) return (double)(dx + dy);
-    int mn = dx < dy ? dx : dy, mx = dx < dy ? dy : dx;
-    return (double)(mx - mn) + SQRT2 * (double)mn;
-}
-
 /* The exact cost from cell v to the table's goal (INFINITY when unreachable), or -1 on
  * memory exhaustion. v must be a valid cell index. */
 static double table_query(LazyObject *L, Table *T, int32_t v) {
@@ -221,7 +242,7 @@ static double table_query(LazyObject *L, Table *T, int32_t v) {
         tg->g[in_tile(L, T->goal)] = 0.0;
         Item it = {heuristic(L, T->goal, v), 0, 0, T->goal};
         if (heap_push(T, it) < 0) return -1;
-    } else if (heuristic(L, T->target, v) > REKEY_DISTANCE) {
+    } else if (octile_xy(L, T->target % L->w, T->target / L->w, v % L->w, v / L->w) > REKEY_DISTANCE) {
         rekey(L, T, v);
     }
     const int W = L->w, H = L->h, nmoves = L->diagonal ? 8 : 4;
@@ -296,13 +317,14 @@ static void Lazy_dealloc(LazyObject *L) {
     free(L->tables);
     free(L->free_slots);
     free(L->blocked);
+    free(L->landmarks);
     Py_TYPE(L)->tp_free((PyObject *)L);
 }
 
 static int Lazy_init(LazyObject *L, PyObject *args, PyObject *kwds) {
-    PyObject *grid;
+    PyObject *grid, *lm = Py_None;
     int w, h, diagonal;
-    if (!PyArg_ParseTuple(args, "Oiip", &grid, &w, &h, &diagonal)) return -1;
+    if (!PyArg_ParseTuple(args, "Oiip|O", &grid, &w, &h, &diagonal, &lm)) return -1;
     if (w <= 0 || h <= 0 || (Py_ssize_t)w * h > 0x7fffffffLL) {
         PyErr_SetString(PyExc_ValueError, "grid size must be positive and below 2**31 cells");
         return -1;
@@ -320,6 +342,24 @@ static int Lazy_init(LazyObject *L, PyObject *args, PyObject *kwds) {
     for (Py_ssize_t i = 0; i < view.len; i++) L->blocked[i] = ((uint8_t *)view.buf)[i] != 0;
     PyBuffer_Release(&view);
     L->w = w; L->h = h; L->diagonal = diagonal;
+    free(L->landmarks);
+    L->landmarks = NULL;
+    L->nlm = 0;
+    if (lm != Py_None) {
+        Py_buffer lb;
+        if (PyObject_GetBuffer(lm, &lb, PyBUF_C_CONTIGUOUS) < 0) return -1;
+        Py_ssize_t per = (Py_ssize_t)w * h * (Py_ssize_t)sizeof(double);
+        if (lb.len % per != 0 || lb.len / per > 64) {
+            PyErr_SetString(PyExc_ValueError, "landmarks must be float64 of shape (height*width, k), k <= 64");
+            PyBuffer_Release(&lb);
+            return -1;
+        }
+        L->nlm = (int)(lb.len / per);
+        L->landmarks = (double *)malloc((size_t)lb.len ? (size_t)lb.len : 1);
+        if (!L->landmarks) { PyBuffer_Release(&lb); PyErr_NoMemory(); return -1; }
+        memcpy(L->landmarks, lb.buf, (size_t)lb.len);
+        PyBuffer_Release(&lb);
+    }
     L->tw = (w + TILE_SIDE - 1) / TILE_SIDE;
     L->th = (h + TILE_SIDE - 1) / TILE_SIDE;
     return 0;

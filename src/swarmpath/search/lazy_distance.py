@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from swarmpath.errors import ConfigError
 from swarmpath.search import _lazydist
+from swarmpath.search.distance_field import distance_field
 from swarmpath.search.grid_input import blocked_array, check_cell, check_connectivity
 
 FloatArray = NDArray[np.float64]
@@ -45,17 +46,29 @@ class LazyDistanceTables:
         ``blocked[y, x]``.
     connectivity : int
         8 (octile, no corner cutting) or 4 (unit costs).
+    landmarks : int
+        Number of landmark cells for the differential heuristic (ALT: Goldberg & Harrelson,
+        "Computing the shortest path: A* search meets graph theory", SODA 2005): exact costs
+        from k cells spread over the map (farthest-point choice) bound the cost between any
+        two cells from below, ``|d(L, v) - d(L, t)|``, far more tightly than the octile
+        distance on cluttered maps, so each table expands fewer cells. 0 (default) uses the
+        octile/Manhattan distance only; the landmarks cost k full distance fields up front
+        (8 bytes per cell each).
 
     Creating a table (:meth:`acquire`) costs nothing: the first query starts the search.
     """
 
-    def __init__(self, grid: ArrayLike, *, connectivity: int = 8):
+    def __init__(self, grid: ArrayLike, *, connectivity: int = 8, landmarks: int = 0):
         self.blocked = blocked_array(grid)
         self.connectivity = connectivity
         diagonal = check_connectivity(connectivity)
+        if not isinstance(landmarks, (int, np.integer)) or not 0 <= landmarks <= 64:
+            raise ConfigError(f"landmarks must be a whole number in [0, 64], got {landmarks!r}")
         self.height, self.width = self.blocked.shape
+        lm = landmark_fields(self.blocked, int(landmarks), connectivity) if landmarks else None
+        self.landmark_cells = lm[1] if lm is not None else np.zeros((0, 2), np.int64)
         self._c = _lazydist.LazyTables(np.ascontiguousarray(self.blocked).view(np.uint8), self.width, self.height,
-                                       diagonal)
+                                       diagonal, None if lm is None else lm[0])
         self._by_goal: dict[tuple[int, int], int] = {}   # goal cell -> slot
         self._users: dict[int, int] = {}                 # slot -> reference count
         self._goal_of: dict[int, tuple[int, int]] = {}
@@ -149,3 +162,28 @@ class LazyDistanceTables:
     def _flat(self, cells: IntArray) -> IntArray:
         inside = (cells[:, 0] >= 0) & (cells[:, 0] < self.width) & (cells[:, 1] >= 0) & (cells[:, 1] < self.height)
         return np.ascontiguousarray(np.where(inside, cells[:, 1] * self.width + cells[:, 0], -1), np.int64)
+
+
+def landmark_fields(blocked: NDArray[np.bool_], k: int, connectivity: int = 8) -> tuple[FloatArray, IntArray] | None:
+    """Exact cost fields from ``k`` landmark cells chosen by farthest-point selection (the
+    first farthest from the first free cell in scan order, each next one farthest from all
+    chosen so far): (fields of shape (height * width, k), landmark cells (k, 2) as x, y), or
+    None on a grid without a free cell. Deterministic."""
+    free = np.flatnonzero(~blocked.ravel())
+    if len(free) == 0 or k == 0:
+        return None
+    h, w = blocked.shape
+    probe = distance_field(blocked, (int(free[0] % w), int(free[0] // w)), connectivity=connectivity).ravel()
+    nearest = np.where(np.isfinite(probe), probe, -1.0)
+    fields, cells = [], []
+    for _ in range(k):
+        v = int(np.argmax(nearest))
+        if nearest[v] <= 0 and fields:
+            break
+        cell = (v % w, v // w)
+        f = distance_field(blocked, cell, connectivity=connectivity).ravel()
+        fields.append(f)
+        cells.append(cell)
+        nearest = np.minimum(nearest, np.where(np.isfinite(f), f, np.inf)) if len(fields) > 1 else \
+            np.where(np.isfinite(f), f, -1.0)
+    return np.ascontiguousarray(np.stack(fields, axis=1)), np.asarray(cells, np.int64)

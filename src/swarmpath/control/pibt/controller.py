@@ -85,6 +85,10 @@ class PIBTController(Controller):
         With moving obstacles: 1 (default) also keeps robots out of cells from which every
         move may be swept by an obstacle the step after (a dead end an obstacle is heading
         into); 0 looks at the next step only.
+    landmarks : int
+        Landmark cells of the distance tables' differential heuristic (8; 0: octile only):
+        about half the cells expanded on cluttered maps for a fixed cost of 8 distance fields
+        at reset.
     release_at_goal : bool
         Free a robot's distance table when it reaches its goal cell (True).
     """
@@ -92,8 +96,9 @@ class PIBTController(Controller):
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
     def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
-                 release_at_goal: bool = True):
+                 landmarks: int = 8, release_at_goal: bool = True):
         self.connectivity = connectivity
+        self.landmarks = landmarks
         self.lookahead = lookahead
         self.swap = swap
         self.yield_way = yield_way
@@ -121,7 +126,7 @@ class PIBTController(Controller):
         self.height_, self.width_ = grid.blocked.shape
         self.moves_ = static_moves(grid.blocked, self.connectivity)
         self.graph_ = GridGraph.build(grid.blocked, self.connectivity, radius, res)
-        self.tables_ = LazyDistanceTables(grid.blocked, connectivity=self.connectivity)
+        self.tables_ = LazyDistanceTables(grid.blocked, connectivity=self.connectivity, landmarks=self.landmarks)
         self.goals_ = world.goals
         self.goal_cells_ = self._cells(self.goals_)
         self.goal_ok_ = grid.is_free(self.goal_cells_) if n else np.zeros(0, bool)

@@ -45,13 +45,16 @@ class LaCAMPlanner(Planner):
         Budget of high-level nodes (configurations) created (1,000,000).
     swap : bool
         LaCAM3's swap emulation inside PIBT (True).
+    landmarks : int
+        Landmark cells of the distance tables' differential heuristic (8; 0: octile only).
     """
 
     capabilities = Capabilities(grid_based=True, multi_robot=True, randomized=True)
 
     def __init__(self, connectivity: int = 8, time_limit: float = 10.0, node_limit: int = 1_000_000,
-                 swap: bool = True):
+                 swap: bool = True, landmarks: int = 8):
         self.connectivity = connectivity
+        self.landmarks = landmarks
         self.time_limit = time_limit
         self.node_limit = node_limit
         self.swap = swap
@@ -83,7 +86,7 @@ class LaCAMPlanner(Planner):
         else:
             self._check_cells(grid, world, starts_xy, "start", PlanStatus.INVALID_START, status, reasons)
             self._check_cells(grid, world, goals_xy, "goal", PlanStatus.INVALID_GOAL, status, reasons)
-        tables = LazyDistanceTables(grid.blocked, connectivity=self.connectivity)
+        tables = LazyDistanceTables(grid.blocked, connectivity=self.connectivity, landmarks=self.landmarks)
         handles = np.full(n, -1, np.int64)
         ok = np.flatnonzero([st is None for st in status])
         if len(ok):
