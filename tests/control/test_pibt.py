@@ -225,6 +225,21 @@ def test_off_centre_starts_and_goals_settle_on_centres_then_the_exact_goal():
     assert arrived(world, traj).all()
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_many_off_centre_points_never_collide(seed):
+    """Starts and goals anywhere inside distinct cells of a crowded open grid: the exact check
+    (and the holds it cascades) keeps every off-centre move contact-free."""
+    rng = np.random.default_rng(seed)
+    cells = rng.choice(100, 80, replace=False)
+    starts = np.stack([cells[:40] % 10, cells[:40] // 10], axis=1) + rng.uniform(0.05, 0.95, (40, 2))
+    goals = np.stack([cells[40:] % 10, cells[40:] // 10], axis=1) + rng.uniform(0.05, 0.95, (40, 2))
+    robots = tuple(Robot(f"r{i}", tuple(s), tuple(g), 0.0, S2) for i, (s, g) in enumerate(zip(starts, goals)))
+    world = World(RectBounds(10, 10), robots=robots)
+    traj = run(world, seed=seed)
+    assert validate_trajectory(world, traj) == []
+    assert arrived(world, traj).all()
+
+
 def test_bad_parameters_raise_config_errors():
     world = world_from_movingai(DATA / "empty-8-8.map", DATA / "empty-8-8-even-10.scen", 4)
     with pytest.raises(ConfigError, match="connectivity"):

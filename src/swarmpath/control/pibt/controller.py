@@ -243,21 +243,39 @@ class PIBTController(Controller):
     def _exact_check(self, pos: FloatArray, new: FloatArray, cells: NDArray[np.int64]) -> list[int]:
         """Robots whose move starts or ends off a cell centre are checked exactly
         (``move_rules.move_conflicts``, the checker's predicate) against robots near them; the
-        conflict table covers centre-to-centre moves only. Returns robots to hold."""
+        conflict table covers centre-to-centre moves only. A robot in conflict is held where it
+        is, and so, in turn, is every robot whose move conflicts with a held robot staying
+        (staying robots never conflict with each other). Returns the robots to hold."""
         centres = self.grid_.centers(self._cells(new))
         odd = np.flatnonzero((np.linalg.norm(pos - self.grid_.centers(cells), axis=1) > 1e-9)
                              | (np.linalg.norm(new - centres, axis=1) > 1e-9))
-        held: list[int] = []
         if len(odd) == 0:
-            return held
+            return []
         radii = self.world_.radii
         res = self.grid_.resolution
-        for i in odd.tolist():
+        final = new.copy()
+        held: list[int] = []
+        todo = odd.tolist()
+        budget = 4 * len(pos) + 4
+        while todo and budget > 0:
+            budget -= 1
+            i = todo.pop()
             near = np.flatnonzero(np.max(np.abs(pos - pos[i]), axis=1) <= 3 * res)
             near = near[near != i]
             if len(near) == 0:
                 continue
-            kind = move_conflicts(pos[i], new[i], pos[near], new[near], radii[i], radii[near], res)
-            if np.any(kind != 0):
+            kind = move_conflicts(pos[i], final[i], pos[near], final[near], radii[i], radii[near], res)
+            if not np.any(kind != 0):
+                continue
+            if np.any(final[i] != pos[i]):
+                final[i] = pos[i]
                 held.append(i)
+                todo.append(i)        # check the robots near it against its staying
+                continue
+            # i stays (held or by choice) and a neighbour's move hits it: hold that neighbour
+            for j in near[kind != 0].tolist():
+                if np.any(final[j] != pos[j]):
+                    final[j] = pos[j]
+                    held.append(j)
+                    todo.append(j)
         return held
