@@ -1,5 +1,5 @@
-"""Build the C extensions: swarmpath.search (grid A* and distance fields) and swarmpath.optim
-(one particle-swarm move); all other metadata lives in pyproject.toml."""
+"""Build the C extensions: swarmpath.search (grid A*, distance fields, lazy distance tables),
+swarmpath.control.pibt (one PIBT step) and swarmpath.optim (one particle-swarm move); all other metadata lives in pyproject.toml."""
 from setuptools import Extension, setup
 
 setup(
@@ -7,6 +7,16 @@ setup(
         Extension(
             "swarmpath.search._gridsearch",
             ["src/swarmpath/search/_gridsearch.c"],
+            extra_compile_args=["-O3"],
+        ),
+        Extension(
+            "swarmpath.search._lazydist",
+            ["src/swarmpath/search/_lazydist.c"],
+            extra_compile_args=["-O3"],
+        ),
+        Extension(
+            "swarmpath.control.pibt._pibt",
+            ["src/swarmpath/control/pibt/_pibt.c"],
             extra_compile_args=["-O3"],
         ),
         Extension(

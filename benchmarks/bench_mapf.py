@@ -1,0 +1,216 @@
+"""MAPF: swarmpath's lacam planner and pibt controller beside pymapf's LaCAM and PIBT.
+
+Run on demand (not a test):  nice python benchmarks/bench_mapf.py [--agents 100 200 300 400]
+Peer install: pip install pymapf (the ``[bench]`` extra).
+
+Instances: random-32-32-10 (tests/data/random-32-32-10-random-1.scen, 461 rows) and
+room-32-32-4 (tests/data/room-32-32-4-even-10.scen has 130 rows; beyond that, distinct random
+starts and goals in the map's free component, seed 0, flagged "rand"). Both solvers get the
+same start/goal cells. pymapf's grid is 4-connected with unit costs when
+``allow_diagonals=False`` (cells are (row, column)); its sum of costs counts, per agent, the
+steps until it last arrives (waits included), the makespan the longest such count. We run
+ours 4-connected to compare like with like, and 8-connected (octile moves without corner
+cutting) beside it.
+
+Printed per instance: success; sum of costs (SOC); SOC / lower bound, the lower bound being
+the sum of the agents' shortest path lengths in steps (BFS on the same graph); makespan;
+wall time. Then the ratios ours / pymapf for LaCAM: SOC and wall time. PIBT runs: pymapf's
+PIBT solver; ours is the ``pibt`` controller through swarmpath's simulator (its controller
+time is the PIBT time; the simulator's checking and recording come on top and are shown).
+Targets: success wherever pymapf succeeds, SOC within 1.1x of pymapf's LaCAM, wall time at
+most 1/10 of it.
+
+``--sweep`` instead runs the acceptance sweep on every MovingAI scen in tests/data: agent
+counts from 25 to 400 (or the file's maximum) in steps of 25, ``lacam`` (8-connected, 10 s)
+and the ``pibt`` controller through the simulator (success = every robot at its goal with
+zero contacts), for ``--seeds`` seeds.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import shortest_path
+
+from swarmpath.control.pibt import PIBTController
+from swarmpath.control.pibt.core import static_moves
+from swarmpath.planning.lacam import LaCAMPlanner
+from swarmpath.sim.simulator import Simulator
+from swarmpath.world import RectBounds, Robot, World
+from swarmpath.world.move_rules import GRID_MOVES
+from swarmpath.world.movingai import read_map, read_scen
+from swarmpath.world.static_map import StaticMap
+
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data"
+INSTANCES = [("random-32-32-10", "random-32-32-10-random-1"), ("room-32-32-4", "room-32-32-4-even-10")]
+
+
+def instance(name: str, scen: str, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+    """(blocked, starts (n, 2) x/y cells, goals, source) from the scen file, or random."""
+    m = read_map(DATA / f"{name}.map")
+    rows = read_scen(DATA / f"{scen}.scen", m)
+    if n <= len(rows):
+        rows = rows[:n]
+        return m.blocked, np.array([e.start for e in rows]), np.array([e.goal for e in rows]), "scen"
+    labels, _ = ndimage.label(~m.blocked)
+    comp = np.argwhere(labels == np.bincount(labels.ravel())[1:].argmax() + 1)[:, ::-1]
+    rng = np.random.default_rng(0)
+    return (m.blocked, comp[rng.choice(len(comp), n, replace=False)], comp[rng.choice(len(comp), n, replace=False)],
+            "rand")
+
+
+def step_lower_bound(blocked: np.ndarray, starts: np.ndarray, goals: np.ndarray, connectivity: int) -> int:
+    """Sum of shortest path lengths in steps (unit-cost BFS, no corner cutting)."""
+    h, w = blocked.shape
+    moves = static_moves(blocked, connectivity)
+    ys, xs, a = np.nonzero(moves[:, :, 1:])
+    d = GRID_MOVES[1:][a]
+    src = ys * w + xs
+    dst = (ys + d[:, 1]) * w + xs + d[:, 0]
+    graph = coo_matrix((np.ones(len(src)), (src, dst)), shape=(h * w, h * w)).tocsr()
+    dist = shortest_path(graph, unweighted=True, indices=goals[:, 1] * w + goals[:, 0])
+    return int(dist[np.arange(len(goals)), starts[:, 1] * w + starts[:, 0]].sum())
+
+
+def soc_makespan(cells: np.ndarray, goals: np.ndarray) -> tuple[int, int]:
+    """cells (T + 1, n, 2): per agent the step after which it stays on its goal."""
+    at = np.all(cells == goals[None], axis=2)
+    last_off = np.where(~at.all(axis=0), cells.shape[0] - 1, 0)
+    for i in range(cells.shape[1]):
+        off = np.flatnonzero(~at[:, i])
+        last_off[i] = off[-1] + 1 if len(off) else 0
+    return int(last_off.sum()), int(last_off.max(initial=0))
+
+
+def world_of(blocked, starts, goals) -> World:
+    h, w = blocked.shape
+    robots = tuple(Robot(f"a{i}", (s[0] + 0.5, s[1] + 0.5), (g[0] + 0.5, g[1] + 0.5), 0.0, float(np.sqrt(2)))
+                   for i, (s, g) in enumerate(zip(starts.tolist(), goals.tolist())))
+    return World(RectBounds(w, h), static_map=StaticMap(blocked), robots=robots)
+
+
+def run_pymapf(kind: str, blocked, starts, goals, time_limit: float):
+    from pymapf.algorithms.lacam import LaCAM
+    from pymapf.algorithms.pibt import PIBT
+    from pymapf.core.grid import GridMap
+    from pymapf.core.solver import Agent, MAPFProblem
+
+    agents = [Agent(f"a{i}", (int(s[1]), int(s[0])), (int(g[1]), int(g[0]))) for i, (s, g) in enumerate(zip(starts, goals))]
+    problem = MAPFProblem(GridMap(blocked.astype(int).tolist()), agents, allow_diagonals=False)
+    solver = LaCAM(time_limit=time_limit, seed=0) if kind == "lacam" else PIBT(seed=0, time_limit=time_limit)
+    t = time.perf_counter()
+    sol = solver.solve(problem)
+    wall = time.perf_counter() - t
+    if sol is None:
+        return None, wall
+    if sol.first_conflict() is not None:
+        return "conflict", wall
+    return (sol.sum_of_costs, sol.makespan), wall
+
+
+def run_ours_lacam(world, goals, connectivity: int, time_limit: float):
+    t = time.perf_counter()
+    plan = LaCAMPlanner(connectivity=connectivity, time_limit=time_limit).plan(world, rng=0)
+    wall = time.perf_counter() - t
+    if not plan:
+        return None, wall
+    cells = np.floor(np.stack([r.path for r in plan.robots], axis=1)).astype(int)
+    return soc_makespan(cells, goals), wall
+
+
+def run_ours_pibt(world, goals, connectivity: int):
+    ctl = PIBTController(connectivity=connectivity)
+    t = time.perf_counter()
+    traj = Simulator(world, ctl, seed=0).run()
+    wall = time.perf_counter() - t
+    if traj.status.value != "all_reached" or traj.contacts:
+        return None, traj.meta["controller_time_s"], wall
+    cells = np.floor(traj.positions).astype(int)
+    return soc_makespan(cells, goals), traj.meta["controller_time_s"], wall
+
+
+def fmt(result, lb) -> str:
+    if result is None:
+        return "fail".ljust(28)
+    if result == "conflict":
+        return "INVALID (conflict)".ljust(28)
+    soc, mk = result
+    return f"SOC {soc:>6} ({soc / lb:5.3f}x) mk {mk:>4}"
+
+
+SWEEP = [("random-32-32-10", "random-32-32-10-random-1"), ("room-32-32-4", "room-32-32-4-even-10"),
+         ("maze-32-32-2", "maze-32-32-2-even-10"), ("den312d", "den312d-even-10"), ("empty-8-8", "empty-8-8-even-10")]
+
+
+def sweep(seeds: int) -> None:
+    from swarmpath.world import world_from_movingai
+
+    for name, scen in SWEEP:
+        rows = len(read_scen(DATA / f"{scen}.scen", read_map(DATA / f"{name}.map")))
+        counts = list(range(25, min(400, rows) + 1, 25)) or [rows]
+        if name == "empty-8-8":
+            counts = [8, 16, 24, 32]
+        line = []
+        worst_lacam = 0.0
+        for n in counts:
+            world = world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n)
+            for seed in range(seeds):
+                t = time.perf_counter()
+                plan = LaCAMPlanner(time_limit=10.0).plan(world, rng=seed)
+                worst_lacam = max(worst_lacam, time.perf_counter() - t)
+                traj = Simulator(world, PIBTController(), seed=seed).run()
+                pibt_ok = traj.status.value == "all_reached" and not traj.contacts
+                if not plan or not pibt_ok:
+                    line.append(f"n={n} seed={seed}: lacam {'ok' if plan else 'FAIL'}, pibt "
+                                f"{'ok' if pibt_ok else f'FAIL ({traj.status.value}, {len(traj.contacts)} contacts)'}")
+        print(f"{name}: counts {counts[0]}..{counts[-1]}, {seeds} seeds: slowest lacam {worst_lacam:.3f} s; "
+              + ("all solved by both" if not line else "; ".join(line)), flush=True)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--agents", type=int, nargs="+", default=[100, 200, 300, 400])
+    ap.add_argument("--time-limit", type=float, default=60.0)
+    ap.add_argument("--sweep", action="store_true")
+    ap.add_argument("--seeds", type=int, default=3)
+    args = ap.parse_args()
+    if args.sweep:
+        sweep(args.seeds)
+        return
+    lacam_soc, lacam_time = [], []
+    for name, scen in INSTANCES:
+        for n in args.agents:
+            blocked, starts, goals, source = instance(name, scen, n)
+            world = world_of(blocked, starts, goals)
+            lb4 = step_lower_bound(blocked, starts, goals, 4)
+            lb8 = step_lower_bound(blocked, starts, goals, 8)
+            print(f"\n{name} ({source}) {n} agents; lower bound {lb4} steps (4-conn), {lb8} (8-conn)")
+            py_l, py_lt = run_pymapf("lacam", blocked, starts, goals, args.time_limit)
+            ours4, o4t = run_ours_lacam(world, goals, 4, args.time_limit)
+            ours8, o8t = run_ours_lacam(world, goals, 8, args.time_limit)
+            py_p, py_pt = run_pymapf("pibt", blocked, starts, goals, args.time_limit)
+            pibt4, p4c, p4w = run_ours_pibt(world, goals, 4)
+            pibt8, p8c, p8w = run_ours_pibt(world, goals, 8)
+            print(f"  LaCAM  pymapf      {fmt(py_l, lb4)}  {py_lt:8.3f} s")
+            print(f"  LaCAM  ours 4-conn {fmt(ours4, lb4)}  {o4t:8.3f} s")
+            print(f"  LaCAM  ours 8-conn {fmt(ours8, lb8)}  {o8t:8.3f} s")
+            print(f"  PIBT   pymapf      {fmt(py_p, lb4)}  {py_pt:8.3f} s")
+            print(f"  PIBT   ours 4-conn {fmt(pibt4, lb4)}  {p4c:8.3f} s controller ({p4w:.2f} s with the simulator)")
+            print(f"  PIBT   ours 8-conn {fmt(pibt8, lb8)}  {p8c:8.3f} s controller ({p8w:.2f} s with the simulator)")
+            if isinstance(py_l, tuple) and isinstance(ours4, tuple):
+                lacam_soc.append(ours4[0] / py_l[0])
+                lacam_time.append(o4t / py_lt)
+                print(f"  ours/pymapf LaCAM (4-conn): SOC {lacam_soc[-1]:.3f}x, wall time {lacam_time[-1]:.4f}x")
+            elif isinstance(py_l, tuple):
+                print("  ours/pymapf LaCAM: ours FAILED where pymapf succeeded")
+    if lacam_soc:
+        print(f"\nLaCAM ours/pymapf over {len(lacam_soc)} instances: SOC max {max(lacam_soc):.3f}x "
+              f"(mean {np.mean(lacam_soc):.3f}x); wall time max {max(lacam_time):.4f}x (mean {np.mean(lacam_time):.4f}x)")
+
+
+if __name__ == "__main__":
+    main()

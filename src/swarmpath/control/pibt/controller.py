@@ -1,0 +1,281 @@
+"""The ``pibt`` controller: PIBT (Okumura et al., AIJ 2022) as an online controller.
+
+Every step: the robots' cells, the exact distance to goal of every candidate cell (lazy
+per-goal tables, :mod:`swarmpath.search.lazy_distance`), the cells a moving obstacle may
+reach next step (:func:`_obstacle_danger`), the priorities of section 3.2, then one PIBT
+step in C (:func:`swarmpath.control.pibt.core.pibt_step`). Robot-robot moves obey the
+checker's own rule (``move_rules.grid_conflict_table``), so without moving obstacles the
+checker finds no contact.
+
+Cells and positions: robots move between cell centres of ``world.grid(radius=max radius)``;
+a robot that starts off a centre first settles on its cell's centre (or moves straight to a
+neighbour centre within reach), and a robot entering its goal cell goes to its exact goal
+when it is within reach (else to the cell centre, then the goal). In its goal cell a robot's
+distances are the move costs themselves, so its table is released on arrival (and taken
+again, lazily, if it is pushed farther away).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmpath.capabilities import Capabilities
+from swarmpath.control.base import Controller, Decision
+from swarmpath.control.hazards import ObstacleForecast
+from swarmpath.control.observation import Observation
+from swarmpath.control.pibt.core import (DIAGONAL_MOVE, PUSHED, STAY, check_connectivity, GridGraph, decision_order,
+                                         pibt_step, static_moves, update_priorities)
+from swarmpath.errors import ConfigError
+from swarmpath.planning.base import Plan
+from swarmpath.registry import register_controller
+from swarmpath.search.lazy_distance import LazyDistanceTables
+from swarmpath.world.move_rules import GRID_MOVES, move_conflicts
+from swarmpath.world.world import World
+
+FloatArray = NDArray[np.float64]
+MOVE_COST = np.linalg.norm(GRID_MOVES, axis=1)
+
+
+def _obstacle_danger(forecast: ObstacleForecast | None, positions: FloatArray, previous: FloatArray,
+                     steps: int = 2) -> list[NDArray[np.bool_]] | None:
+    """Cells (height, width) moving obstacles may cover: ``[D_1, ..., D_steps]``. D_1 is the
+    cells a robot must not end this step in: each obstacle's footprint grown by the robots'
+    radius, now and swept to every position its motion model can take next step (bounce,
+    bounce8: straight on or the reflections; random-walk: the 8 grid steps; turn-every and
+    waypoints: anywhere within ``speed * dt``; redraw: its landing cell avoids robots); D_k
+    the same k steps ahead (:meth:`ObstacleForecast.coverage`). None without moving obstacles.
+
+    One small function so that a motion-model registry with a worst-case reach can replace
+    the forecast here."""
+    if forecast is None or forecast.m == 0:
+        return None
+    return forecast.coverage(positions, previous, steps)
+
+
+def escape_cells(danger_next: NDArray[np.bool_], moves: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Cells (height, width) from which some move (staying included, ``moves`` (h, w, 9))
+    ends outside ``danger_next``: a robot entering any other cell would be cornered there
+    next step whatever it does."""
+    h, w = danger_next.shape
+    safe = np.zeros((h + 2, w + 2), bool)
+    safe[1:-1, 1:-1] = ~danger_next
+    out = np.zeros((h, w), bool)
+    for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+        out |= moves[:, :, a] & safe[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+    return out
+
+
+@register_controller("pibt")
+class PIBTController(Controller):
+    """Priority Inheritance with Backtracking, one grid step per simulator step.
+
+    Parameters
+    ----------
+    connectivity : int
+        8 (octile moves without corner cutting) or 4.
+    swap : bool
+        LaCAM3's swap emulation (True): two robots that must pass each other in a corridor
+        (each one's goal lies behind the other) swap where the corridor branches, instead of
+        pushing each other back and forth. False is the paper's PIBT, whose reachability
+        guarantee (the highest-priority robot reaches its goal) holds.
+    yield_way : bool
+        A robot pushed off its goal steps out of the pusher's way rather than ahead of it
+        (True; see :func:`~swarmpath.control.pibt.core.pibt_step`).
+    lookahead : int
+        With moving obstacles: 1 (default) also keeps robots out of cells from which every
+        move may be swept by an obstacle the step after (a dead end an obstacle is heading
+        into); 0 looks at the next step only.
+    landmarks : int
+        Landmark cells of the distance tables' differential heuristic (8; 0: octile only):
+        about half the cells expanded on cluttered maps for a fixed cost of 8 distance fields
+        at reset.
+    release_at_goal : bool
+        Free a robot's distance table when it reaches its goal cell (True).
+    """
+
+    capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
+
+    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
+                 landmarks: int = 8, release_at_goal: bool = True):
+        self.connectivity = connectivity
+        self.landmarks = landmarks
+        self.lookahead = lookahead
+        self.swap = swap
+        self.yield_way = yield_way
+        self.release_at_goal = release_at_goal
+
+    # ------------------------------------------------------------------ reset
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
+        check_connectivity(self.connectivity, "pibt")
+        if self.lookahead not in (0, 1):
+            raise ConfigError(f"pibt: lookahead must be 0 or 1, got {self.lookahead!r}")
+        n = world.n_robots
+        res = world.resolution
+        radius = float(world.radii.max(initial=0.0))
+        self.reach_ = world.max_speeds * world.dt
+        self.diag_ok_ = self.reach_ >= res * np.sqrt(2) * (1 - 1e-9)
+        slow = np.flatnonzero(self.reach_ < res * (1 - 1e-9))
+        if len(slow):
+            raise ConfigError(f"pibt moves one grid cell per step: robot {world.robots[slow[0]].id!r} has "
+                              f"max_speed * dt = {self.reach_[slow[0]]:g} < resolution {res:g}")
+        if radius > res / 2 + 1e-12:
+            raise ConfigError(f"pibt handles robots of radius up to half a cell ({res / 2:g}), got {radius:g}")
+        grid = world.grid(radius=radius)
+        self.world_ = world
+        self.grid_ = grid
+        self.height_, self.width_ = grid.blocked.shape
+        self.moves_ = static_moves(grid.blocked, self.connectivity)
+        self.graph_ = GridGraph.build(grid.blocked, self.connectivity, radius, res)
+        self.tables_ = LazyDistanceTables(grid.blocked, connectivity=self.connectivity, landmarks=self.landmarks)
+        self.goals_ = world.goals
+        self.goal_cells_ = self._cells(self.goals_)
+        self.goal_ok_ = grid.is_free(self.goal_cells_) if n else np.zeros(0, bool)
+        self.handles_ = np.full(n, -1, np.int64)          # table of each robot, -1: none held
+        self.base_ = rng.random(n)                        # fractional parts of the priorities
+        self.priority_ = self.base_.copy()
+        self.pushes_ = np.zeros(n, np.int64)              # times each robot was pushed and moved
+        self.rng_ = rng
+        self.forecast_ = ObstacleForecast(world, grid, radius) if world.moving_obstacles else None
+
+    def _cells(self, points: FloatArray) -> NDArray[np.int64]:
+        cells = self.grid_.cell_of(np.asarray(points, float).reshape(-1, 2))
+        return np.clip(cells, 0, [self.width_ - 1, self.height_ - 1])
+
+    # ------------------------------------------------------------------ act
+    def _distances(self, cells: NDArray[np.int64], in_goal_cell: NDArray[np.bool_]) -> FloatArray:
+        """Cost to goal (n, 9) of each move's cell; NaN for impossible moves. In its goal cell
+        a robot's costs are the moves' own costs (a move's cell is that far from the goal)."""
+        n = len(cells)
+        ok_moves = self.moves_[cells[:, 1], cells[:, 0]]
+        dist = np.where(ok_moves, MOVE_COST[None, :], np.nan)
+        dist[:, STAY] = 0.0
+        need = ~in_goal_cell & self.goal_ok_
+        if self.release_at_goal and n:
+            for i in np.flatnonzero(in_goal_cell & (self.handles_ >= 0)):
+                self.tables_.release(int(self.handles_[i]))
+                self.handles_[i] = -1
+        for i in np.flatnonzero(need & (self.handles_ < 0)):
+            self.handles_[i] = self.tables_.acquire(self.goal_cells_[i])
+        idx = np.flatnonzero(need)
+        if len(idx):
+            d = self.tables_.neighbour_costs(self.handles_[idx], cells[idx])
+            dist[idx] = np.where(ok_moves[idx], d, np.nan)
+            dist[idx, STAY] = d[:, STAY]
+        lost = ~self.goal_ok_   # a goal off the grid's free cells: such a robot only makes way
+        dist[lost] = np.where(np.isnan(dist[lost]), np.nan, 0.0)
+        return dist
+
+    def _targets(self, pos: FloatArray, cells: NDArray[np.int64], rows: NDArray[np.int64]
+                 ) -> tuple[FloatArray, NDArray[np.bool_]]:
+        """Where each move takes robots ``rows`` (k, 9, 2) and whether it is within reach: cell
+        centres; the exact goal on entering or staying in the goal cell when in reach."""
+        pos, cells = pos[rows], cells[rows]
+        reach = self.reach_[rows, None] * (1 + 1e-9) + 1e-12
+        dest = cells[:, None, :] + GRID_MOVES[None]
+        targets = self.grid_.centers(dest)
+        to_goal = np.all(dest == self.goal_cells_[rows, None, :], axis=2)
+        goal_t = np.broadcast_to(self.goals_[rows, None, :], targets.shape)
+        goal_reach = np.linalg.norm(goal_t - pos[:, None, :], axis=2) <= reach
+        targets = np.where((to_goal & goal_reach)[..., None], goal_t, targets)
+        in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= reach
+        in_reach[:, STAY] = True
+        return targets, in_reach
+
+    def act(self, obs: Observation) -> Decision:
+        pos = obs.positions
+        n = len(pos)
+        cells = self._cells(pos)
+        in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
+        dist = self._distances(cells, in_goal_cell)
+        # most robots stand on a cell centre away from their goal: every move ends on a centre
+        # within reach (diagonals need reach sqrt 2); the others are worked out exactly
+        centre = self.grid_.centers(cells)
+        special = np.flatnonzero((np.abs(pos - centre).max(axis=1) > 1e-9)
+                                 | (np.abs(cells - self.goal_cells_).max(axis=1) <= 1))
+        allowed = ~np.isnan(dist) & (self.diag_ok_[:, None] | ~DIAGONAL_MOVE[None, :])
+        special_targets, special_reach = self._targets(pos, cells, special)
+        allowed[special] = ~np.isnan(dist[special]) & special_reach
+        allowed[:, STAY] = True
+        danger = _obstacle_danger(self.forecast_, obs.obstacle_positions, obs.obstacle_previous,
+                                  1 + self.lookahead)
+        urgent = np.zeros(n, bool)
+        if danger is not None:
+            dest = cells[:, None, :] + GRID_MOVES[None]
+            xs = np.clip(dest[..., 0], 0, self.width_ - 1)
+            ys = np.clip(dest[..., 1], 0, self.height_ - 1)
+            allowed &= ~danger[0][ys, xs]
+            urgent = danger[0][cells[:, 1], cells[:, 0]]
+            if self.lookahead:
+                # keep out of cells that leave no way out next step, unless nothing else is left
+                strict = allowed & escape_cells(danger[1], self.moves_)[ys, xs]
+                keep = strict.any(axis=1)
+                allowed[keep] = strict[keep]
+        self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
+        order = decision_order(self.priority_, urgent)
+        tie = self.rng_.random((n, 9))
+        flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
+        goal_flat = (self.goal_cells_[:, 1] * self.width_ + self.goal_cells_[:, 0]).astype(np.int32)
+        result = pibt_step(self.graph_, flat, np.nan_to_num(dist, nan=np.inf), allowed, tie, order, goals=goal_flat,
+                           slots=self.handles_, tables=self.tables_._c, swap=self.swap,
+                           yield_way=self.yield_way)
+        moves = result.moves.astype(np.int64)
+        new = centre + GRID_MOVES[moves] * self.grid_.resolution
+        new[special] = special_targets[np.arange(len(special)), moves[special]]
+        events: list[dict] = []
+        held = self._exact_check(pos, new, cells)
+        for i in held:
+            new[i] = pos[i]
+            moves[i] = STAY
+            events.append({"robot": int(i), "kind": "move_withheld", "detail": "off-centre move conflicts"})
+        stuck_in_danger = np.flatnonzero(urgent & (moves == STAY))
+        for i in stuck_in_danger:
+            events.append({"robot": int(i), "kind": "no_escape",
+                           "detail": "a moving obstacle may reach this cell and no move leads out"})
+        if result.conflicts:
+            events.append({"robot": -1, "kind": "pibt_conflict", "detail": f"{result.conflicts} pairs"})
+        pushed = ((result.flags & PUSHED) != 0) & (moves != STAY)
+        self.pushes_ += pushed
+        arrived = np.linalg.norm(new - self.goals_, axis=1) <= 1e-9
+        modes = np.where(arrived, "arrived", np.where(moves == STAY, "wait", "move")).astype(object)
+        modes[pushed] = "pushed"
+        return Decision(new, modes.tolist(), events)
+
+    def _exact_check(self, pos: FloatArray, new: FloatArray, cells: NDArray[np.int64]) -> list[int]:
+        """Robots whose move starts or ends off a cell centre are checked exactly
+        (``move_rules.move_conflicts``, the checker's predicate) against robots near them; the
+        conflict table covers centre-to-centre moves only. A robot in conflict is held where it
+        is, and so, in turn, is every robot whose move conflicts with a held robot staying
+        (staying robots never conflict with each other). Returns the robots to hold."""
+        centres = self.grid_.centers(self._cells(new))
+        odd = np.flatnonzero((np.linalg.norm(pos - self.grid_.centers(cells), axis=1) > 1e-9)
+                             | (np.linalg.norm(new - centres, axis=1) > 1e-9))
+        if len(odd) == 0:
+            return []
+        radii = self.world_.radii
+        res = self.grid_.resolution
+        final = new.copy()
+        held: list[int] = []
+        todo = odd.tolist()
+        budget = 4 * len(pos) + 4
+        while todo and budget > 0:
+            budget -= 1
+            i = todo.pop()
+            near = np.flatnonzero(np.max(np.abs(pos - pos[i]), axis=1) <= 3 * res)
+            near = near[near != i]
+            if len(near) == 0:
+                continue
+            kind = move_conflicts(pos[i], final[i], pos[near], final[near], radii[i], radii[near], res)
+            if not np.any(kind != 0):
+                continue
+            if np.any(final[i] != pos[i]):
+                final[i] = pos[i]
+                held.append(i)
+                todo.append(i)        # check the robots near it against its staying
+                continue
+            # i stays (held or by choice) and a neighbour's move hits it: hold that neighbour
+            for j in near[kind != 0].tolist():
+                if np.any(final[j] != pos[j]):
+                    final[j] = pos[j]
+                    held.append(j)
+                    todo.append(j)
+        return held

@@ -1,0 +1,183 @@
+"""PIBT, the maths: priorities, candidate moves and one configuration step.
+
+Priority Inheritance with Backtracking (Okumura, Machida, Defago, Tamura, "Priority
+inheritance with backtracking for iterative multi-agent path finding", Artificial
+Intelligence 310, 2022). At every step each robot ranks its candidate cells (stay and the 4
+or 8 neighbours) by the exact distance to its goal; robots decide in decreasing priority; a
+robot that wants the cell of a robot that has not decided yet makes that robot move first
+(priority inheritance) or, if it cannot, tries its next cell (backtracking). The loop of one
+step runs in C (``_pibt.c``); this module prepares its inputs:
+
+- :func:`update_priorities`: section 3.2 of the paper: a robot's priority grows by one every
+  step it is away from its goal and drops back to its fractional part (a distinct random
+  number in [0, 1)) when it is at the goal;
+- :func:`decision_order`: robots in decreasing priority;
+- :func:`static_moves`: which of the 9 grid moves (``move_rules.GRID_MOVES``) leave each cell
+  through free cells without corner cutting;
+- :func:`pibt_step`: one step, with the checker's conflict table
+  (:func:`swarmpath.world.move_rules.grid_conflict_table`) and optional forced moves (LaCAM's
+  constraints).
+
+Cells are flat indices ``y * width + x`` of the occupancy grid.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmpath.control.pibt import _pibt
+from swarmpath.errors import ConfigError
+from swarmpath.world.move_rules import GRID_MOVES, grid_conflict_table
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
+
+#: Index of "stay" among the 9 grid moves.
+STAY = 0
+#: Whether each of the 9 grid moves is diagonal.
+DIAGONAL_MOVE = np.all(GRID_MOVES != 0, axis=1)
+#: Flags returned per robot by :func:`pibt_step`.
+PUSHED, STUCK = 1, 2
+
+
+def check_connectivity(connectivity: int, who: str) -> None:
+    """4 or 8; anything else raises :class:`ConfigError` naming ``connectivity``."""
+    if connectivity not in (4, 8):
+        raise ConfigError(f"{who}: connectivity must be 4 or 8, got {connectivity!r}")
+
+
+def static_moves(blocked: NDArray[np.bool_], connectivity: int = 8) -> BoolArray:
+    """Which grid moves are possible from each cell: bool array (height, width, 9) in
+    ``GRID_MOVES`` order. Staying is possible on a free cell; a move needs a free target
+    inside the grid, a diagonal also both orthogonal neighbours free (no corner cutting), and
+    none with 4-connectivity."""
+    b = np.asarray(blocked, bool)
+    h, w = b.shape
+    free = np.zeros((h + 2, w + 2), bool)
+    free[1:-1, 1:-1] = ~b
+    out = np.zeros((h, w, 9), bool)
+    for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+        if connectivity == 4 and dx and dy:
+            continue
+        ok = free[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] & ~b
+        if dx and dy:
+            ok &= free[1:1 + h, 1 + dx:1 + dx + w] & free[1 + dy:1 + dy + h, 1:1 + w]
+        out[:, :, a] = ok
+    return out
+
+
+def update_priorities(priority: FloatArray, at_goal: BoolArray, base: FloatArray) -> FloatArray:
+    """Section 3.2: +1 for every robot away from its goal, back to ``base`` (its fractional
+    part, distinct random numbers in [0, 1)) for robots at their goal. Shapes (n,)."""
+    return np.where(at_goal, base, priority + 1.0)
+
+
+def decision_order(priority: FloatArray, urgent: BoolArray | None = None) -> NDArray[np.int32]:
+    """Robots in decreasing priority (ties by index); ``urgent`` robots (standing where a
+    moving obstacle may be next step) decide before all others."""
+    if urgent is None:
+        return np.argsort(-priority, kind="stable").astype(np.int32)
+    return np.lexsort((-priority, ~np.asarray(urgent, bool))).astype(np.int32)
+
+
+def conflict_table(radius: float, resolution: float) -> NDArray[np.uint8]:
+    """The checker's rule for two robots of ``radius`` as a C-contiguous uint8 table (25, 9, 9)
+    (:func:`swarmpath.world.move_rules.grid_conflict_table`). Using the largest radius of a
+    world for every pair is conservative: a conflict of smaller discs is one of larger discs."""
+    return np.ascontiguousarray(grid_conflict_table(radius, radius, resolution), np.uint8)
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """One PIBT step: ``moves`` (n,) indices into ``GRID_MOVES``; ``flags`` (n,) with bits
+    :data:`PUSHED` (moved by priority inheritance or pulled by a swap) and :data:`STUCK`
+    (every candidate failed); ``ok`` False when forced moves cannot be met; ``conflicts``
+    robot pairs whose moves still conflict by the table (0 without forced moves); ``calls``
+    recursive PIBT calls; ``swaps`` robots pulled by the swap emulation."""
+
+    moves: NDArray[np.int8]
+    flags: NDArray[np.uint8]
+    ok: bool
+    conflicts: int
+    calls: int
+    swaps: int
+
+
+@dataclass(frozen=True)
+class GridGraph:
+    """What one PIBT step needs of the map: ``blocked`` (height, width) as C-contiguous uint8,
+    the connectivity, and the conflict table (:func:`conflict_table`)."""
+
+    blocked: NDArray[np.uint8]
+    connectivity: int
+    table: NDArray[np.uint8]
+
+    @classmethod
+    def build(cls, blocked: NDArray[np.bool_], connectivity: int, radius: float, resolution: float) -> "GridGraph":
+        return cls(np.ascontiguousarray(blocked, np.uint8), connectivity, conflict_table(radius, resolution))
+
+    @property
+    def height(self) -> int:
+        return int(self.blocked.shape[0])
+
+    @property
+    def width(self) -> int:
+        return int(self.blocked.shape[1])
+
+
+def pibt_step(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allowed: BoolArray, tie: FloatArray,
+              order: NDArray[np.int32], *, goals: NDArray[np.int32], slots: NDArray[np.int64] | None = None,
+              tables=None, swap: bool = False, yield_way: bool = False, forced: NDArray[np.int8] | None = None,
+              forced_order: NDArray[np.int32] | None = None) -> StepResult:
+    """One step of PIBT (Algorithm 1 of the paper) for all robots.
+
+    Parameters
+    ----------
+    graph : GridGraph
+        The map, its connectivity and the conflict table.
+    cells : ndarray of shape (n,), int32
+        Each robot's flat cell ``y * width + x`` (distinct).
+    dist : ndarray of shape (n, 9)
+        Cost to goal of the cell each move reaches (the ranking key).
+    allowed : ndarray of shape (n, 9), bool
+        Candidate moves (static, in reach, away from moving obstacles). A robot whose stay is
+        not allowed tries to leave; if it cannot, it stays anyway.
+    tie : ndarray of shape (n, 9)
+        Random keys breaking ties of equal cost among equally occupied cells.
+    order : ndarray of shape (n,), int32
+        Robots in the order they decide (decreasing priority).
+    goals : ndarray of shape (n,), int32
+        Each robot's goal cell (flat).
+    slots, tables : each robot's table in a :class:`~swarmpath.search.lazy_distance.LazyDistanceTables`'
+        C object (``tables._c``; slot -1: none, then the octile distance to the goal is used);
+        only read by the swap emulation.
+    swap : bool
+        LaCAM3's swap emulation (Okumura, AAMAS 2024): a robot that must pass another one in a
+        corridor moves away and pulls it.
+    yield_way : bool
+        A robot pushed off its goal ranks first the cells that are not closer to the pusher's
+        goal than its own cell (it steps out of the pusher's way instead of ahead of it), an
+        ordering choice left open by the paper (any order keeps Theorem 1). It ends the
+        ping-pong of two robots whose goals lie one behind the other in a corridor.
+    forced, forced_order : LaCAM's constraints: ``forced[i]`` the move robot i must make (-1:
+        free), placed in ``forced_order`` before PIBT runs.
+    """
+    n = len(cells)
+    moves = np.zeros(n, np.int8)
+    flags = np.zeros(n, np.uint8)
+    if forced is None:
+        forced = np.full(n, -1, np.int8)
+        forced_order = np.zeros(0, np.int32)
+    if slots is None:
+        slots = np.full(n, -1, np.int64)
+    ok, bad, calls, swaps = _pibt.step(
+        graph.width, graph.height, graph.connectivity == 8, graph.blocked, np.ascontiguousarray(cells, np.int32),
+        np.ascontiguousarray(dist, np.float64), np.ascontiguousarray(allowed, np.uint8),
+        np.ascontiguousarray(tie, np.float64), np.ascontiguousarray(order, np.int32), graph.table,
+        np.ascontiguousarray(forced, np.int8), np.ascontiguousarray(forced_order, np.int32),
+        np.ascontiguousarray(goals, np.int32), np.ascontiguousarray(slots, np.int64), tables, bool(swap),
+        bool(yield_way), moves, flags)
+    return StepResult(moves, flags, bool(ok), int(bad), int(calls), int(swaps))

@@ -1,0 +1,333 @@
+"""The pibt controller and its core: the checker's rule holds by construction, PIBT's
+priority inheritance and reachability, determinism, MovingAI instances, moving obstacles in
+narrow passages."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from swarmpath.control.pibt import PIBTController
+from swarmpath.control.pibt.core import (PUSHED, STAY, GridGraph, decision_order, pibt_step, static_moves,
+                                         update_priorities)
+from swarmpath.errors import ConfigError
+from swarmpath.search.lazy_distance import LazyDistanceTables
+from swarmpath.sim.simulator import Simulator
+from swarmpath.testing import validate_trajectory
+from swarmpath.world import Circle, Rect, RectBounds, Robot, World, world_from_movingai
+from swarmpath.world.move_rules import GRID_MOVES, grid_conflict_table, move_conflicts
+from swarmpath.world.moving import Bounce, Bounce8, MovingObstacle, RandomWalk, Redraw, TurnEvery, Waypoints
+from swarmpath.world.static_map import StaticMap
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+S2 = float(np.sqrt(2))
+
+
+def run(world, seed=0, max_steps=None, **kw):
+    return Simulator(world, PIBTController(**kw), seed=seed, max_steps=max_steps).run()
+
+
+def arrived(world, traj) -> np.ndarray:
+    return np.linalg.norm(traj.positions[-1] - world.goals, axis=1) <= 1e-9
+
+
+# ---------------------------------------------------------------------------- the core
+def random_step_case(rng, radius, connectivity, n_max=30, size=9):
+    """A random grid, robots on distinct free cells, goals, and everything pibt_step needs."""
+    blocked = rng.random((size, size)) < 0.15
+    free = np.argwhere(~blocked)[:, ::-1]
+    n = int(min(len(free) - 1, rng.integers(2, n_max)))
+    pick = rng.choice(len(free), size=n, replace=False)
+    cells = free[pick]
+    goals = free[rng.choice(len(free), size=n, replace=False)]
+    tables = LazyDistanceTables(blocked, connectivity=connectivity)
+    handles = tables.acquire_many(goals)
+    dist = tables.neighbour_costs(handles, cells)
+    moves = static_moves(blocked, connectivity)[cells[:, 1], cells[:, 0]]
+    graph = GridGraph.build(blocked, connectivity, radius, 1.0)
+    w = blocked.shape[1]
+    flat = (cells[:, 1] * w + cells[:, 0]).astype(np.int32)
+    gflat = (goals[:, 1] * w + goals[:, 0]).astype(np.int32)
+    order = decision_order(rng.random(n))
+    return blocked, cells, goals, tables, handles, dist, moves, graph, flat, gflat, order
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.3, 0.5])
+@pytest.mark.parametrize("connectivity", [4, 8])
+@pytest.mark.parametrize("swap", [False, True])
+def test_one_step_never_breaks_the_checkers_rule(radius, connectivity, swap):
+    """Random crowded configurations: the moves PIBT returns have no conflict by the
+    checker's predicate (move_conflicts on the actual segments), no corner cutting and no
+    blocked cell."""
+    rng = np.random.default_rng(int(radius * 10) + connectivity + 100 * swap)
+    for _ in range(60):
+        blocked, cells, goals, tables, handles, dist, moves, graph, flat, gflat, order = \
+            random_step_case(rng, radius, connectivity)
+        res = pibt_step(graph, flat, np.nan_to_num(dist, nan=np.inf), moves, rng.random(dist.shape), order,
+                        goals=gflat, slots=handles, tables=tables._c, swap=swap, yield_way=True)
+        assert res.ok and res.conflicts == 0
+        m = res.moves.astype(int)
+        assert np.all(moves[np.arange(len(m)), m])
+        p0 = cells + 0.5
+        p1 = p0 + GRID_MOVES[m]
+        i, j = np.triu_indices(len(m), 1)
+        kinds = move_conflicts(p0[i], p1[i], p0[j], p1[j], radius, radius, 1.0)
+        assert not kinds.any(), list(zip(i[kinds > 0], j[kinds > 0]))
+
+
+def test_priority_inheritance_pushes_a_lower_robot_out_of_the_way():
+    """A 1-wide corridor with a side pocket: the higher robot wants the cell of the lower one,
+    which must step into the pocket (inheritance), not block it."""
+    blocked = np.ones((3, 6), bool)
+    blocked[1, :] = False       # corridor y = 1, x = 0..5
+    blocked[0, 3] = False       # pocket above x = 3
+    graph = GridGraph.build(blocked, 4, 0.0, 1.0)
+    cells = np.array([[2, 1], [3, 1]])
+    goals = np.array([[5, 1], [3, 1]])       # robot 1 sits on its goal
+    tables = LazyDistanceTables(blocked, connectivity=4)
+    handles = tables.acquire_many(goals)
+    dist = tables.neighbour_costs(handles, cells)
+    moves = static_moves(blocked, 4)[cells[:, 1], cells[:, 0]]
+    flat = (cells[:, 1] * 6 + cells[:, 0]).astype(np.int32)
+    res = pibt_step(graph, flat, np.nan_to_num(dist, nan=np.inf), moves, np.zeros((2, 9)),
+                    np.array([0, 1], np.int32), goals=(goals[:, 1] * 6 + goals[:, 0]).astype(np.int32),
+                    slots=handles, tables=tables._c)
+    assert tuple(GRID_MOVES[res.moves[0]]) == (1, 0)       # the high robot advances
+    assert tuple(GRID_MOVES[res.moves[1]]) in ((1, 0), (0, -1))   # the low one makes way
+    assert res.flags[1] & PUSHED
+    # without a way out the low robot stays and the high one backtracks to waiting
+    blocked[0, 3] = True
+    blocked[1, 4:] = True
+    graph = GridGraph.build(blocked, 4, 0.0, 1.0)
+    moves = static_moves(blocked, 4)[cells[:, 1], cells[:, 0]]
+    dist[:, 1] = np.where(moves[:, 1], dist[:, 1], np.nan)
+    res = pibt_step(graph, flat, np.nan_to_num(dist, nan=np.inf), moves, np.zeros((2, 9)),
+                    np.array([0, 1], np.int32), goals=np.array([1 * 6 + 3, 1 * 6 + 3], np.int32))
+    assert res.moves[1] == STAY and res.ok and res.conflicts == 0
+    assert res.moves[0] in (STAY, 5)   # waits or backs off, never into the occupied cell
+
+
+@pytest.mark.parametrize("connectivity", [4, 8])
+def test_the_highest_priority_robot_always_gets_its_best_cell(connectivity):
+    """Theorem 1 of the paper: on a graph where every two adjacent vertices lie on a cycle (an
+    open grid), the robot of highest priority moves to a best cell every step, however
+    crowded; so it reaches its goal in as many steps as its distance (without swaps)."""
+    rng = np.random.default_rng(connectivity)
+    blocked = np.zeros((8, 8), bool)
+    graph = GridGraph.build(blocked, connectivity, 0.0, 1.0)
+    free = np.argwhere(~blocked)[:, ::-1]
+    moves_all = static_moves(blocked, connectivity)
+    for _ in range(20):
+        n = int(rng.integers(10, 50))
+        cells = free[rng.choice(64, n, replace=False)]
+        goals = free[rng.choice(64, n, replace=False)]
+        tables = LazyDistanceTables(blocked, connectivity=connectivity)
+        handles = tables.acquire_many(goals)
+        steps = 0
+        while np.any(cells[0] != goals[0]):
+            dist = tables.neighbour_costs(handles, cells)
+            moves = moves_all[cells[:, 1], cells[:, 0]]
+            prio = np.r_[1e9, rng.random(n - 1)]
+            flat = (cells[:, 1] * 8 + cells[:, 0]).astype(np.int32)
+            res = pibt_step(graph, flat, np.nan_to_num(dist, nan=np.inf), moves, rng.random((n, 9)),
+                            decision_order(prio), goals=(goals[:, 1] * 8 + goals[:, 0]).astype(np.int32),
+                            slots=handles, tables=tables._c, swap=False, yield_way=True)
+            best = np.nanmin(dist[0])
+            assert dist[0, res.moves[0]] == best
+            cells = cells + GRID_MOVES[res.moves.astype(int)]
+            steps += 1
+            assert steps <= 20
+        assert len({tuple(c) for c in cells.tolist()}) == n
+
+
+def test_priorities_follow_section_3_2():
+    base = np.array([0.1, 0.7, 0.3])
+    p = update_priorities(base.copy(), np.array([False, True, False]), base)
+    assert np.allclose(p, [1.1, 0.7, 1.3])
+    p = update_priorities(p, np.array([True, False, False]), base)
+    assert np.allclose(p, [0.1, 1.7, 2.3])
+    assert decision_order(p).tolist() == [2, 1, 0]
+    assert decision_order(p, np.array([True, False, False])).tolist() == [0, 2, 1]
+
+
+# ---------------------------------------------------------------------------- the controller
+@pytest.mark.parametrize("name,scen,n", [("random-32-32-10", "random-32-32-10-random-1", 100),
+                                         ("room-32-32-4", "room-32-32-4-even-10", 60),
+                                         ("maze-32-32-2", "maze-32-32-2-even-10", 40),
+                                         ("empty-8-8", "empty-8-8-even-10", 32)])
+@pytest.mark.parametrize("connectivity", [4, 8])
+def test_movingai_instances_all_arrive_without_contacts(name, scen, n, connectivity):
+    world = world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n)
+    traj = run(world, connectivity=connectivity)
+    assert traj.status.value == "all_reached"
+    assert validate_trajectory(world, traj) == []
+    steps = np.abs(np.diff(np.floor(traj.positions), axis=0)).sum(axis=2)
+    assert steps.max() <= (1 if connectivity == 4 else 2)
+
+
+def test_same_seed_same_trajectory_bit_for_bit_and_seeds_differ():
+    world = world_from_movingai(DATA / "room-32-32-4.map", DATA / "room-32-32-4-even-10.scen", 80)
+    a, b, c = run(world, seed=3), run(world, seed=3), run(world, seed=4)
+    assert np.array_equal(a.positions, b.positions)
+    assert a.modes is not None and np.array_equal(a.modes, b.modes)
+    assert not (a.positions.shape == c.positions.shape and np.array_equal(a.positions, c.positions))
+
+
+def test_pushes_are_reported_in_the_modes():
+    world = world_from_movingai(DATA / "maze-32-32-2.map", DATA / "maze-32-32-2-even-10.scen", 100)
+    ctl = PIBTController()
+    traj = Simulator(world, ctl, seed=0).run()
+    names = traj.mode_names
+    pushed = (traj.modes == names.index("pushed")).sum(axis=0)
+    assert pushed.sum() > 0
+    assert np.array_equal(pushed, ctl.pushes_)
+    assert set(names) <= {"move", "wait", "pushed", "arrived"}
+
+
+def disc_world(radius: float, n: int, seed: int = 0) -> World:
+    from scipy import ndimage
+
+    rng = np.random.default_rng(seed)
+    blocked = rng.random((16, 16)) < 0.1
+    labels, _ = ndimage.label(~blocked)
+    comp = np.argwhere(labels == np.bincount(labels.ravel())[1:].argmax() + 1)[:, ::-1]
+    pick = rng.choice(len(comp), 2 * n, replace=False)
+    starts, goals = comp[pick[:n]] + 0.5, comp[pick[n:]] + 0.5
+    robots = tuple(Robot(f"r{i}", tuple(s), tuple(g), radius, S2) for i, (s, g) in enumerate(zip(starts, goals)))
+    return World(RectBounds(16, 16), static_map=StaticMap(blocked), robots=robots)
+
+
+@pytest.mark.parametrize("radius", [0.3, 0.4, 0.5])
+def test_disc_robots_up_to_half_a_cell_never_touch(radius):
+    """Discs above ~0.354 cell: following diagonally or passing a robot that stays are
+    contacts for the checker; the conflict table keeps the controller out of them, even in a
+    crowd where some robots then cannot pass each other (PIBT is not complete)."""
+    world = disc_world(radius, 30)
+    for connectivity in (8, 4):
+        traj = run(world, max_steps=150, connectivity=connectivity)
+        assert validate_trajectory(world, traj) == []
+    # next to another robot a big disc cannot move diagonally, so octile distances mislead
+    # it; with 4-connectivity sparse robots all arrive
+    for seed in range(1, 4):
+        sparse = disc_world(radius, 8, seed=seed)
+        traj = run(sparse, connectivity=4)
+        assert validate_trajectory(sparse, traj) == []
+        assert arrived(sparse, traj).all()
+
+
+def test_off_centre_starts_and_goals_settle_on_centres_then_the_exact_goal():
+    robots = (Robot("a", (0.2, 0.3), (5.9, 0.1), 0.0, S2), Robot("b", (5.5, 0.5), (1.0, 1.0), 0.0, S2),
+              Robot("c", (3.5, 2.5), (3.5, 0.5), 0.0, S2))
+    world = World(RectBounds(6, 3), robots=robots)
+    traj = run(world)
+    assert validate_trajectory(world, traj) == []
+    assert arrived(world, traj).all()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_many_off_centre_points_never_collide(seed):
+    """Starts and goals anywhere inside distinct cells of a crowded open grid: the exact check
+    (and the holds it cascades) keeps every off-centre move contact-free."""
+    rng = np.random.default_rng(seed)
+    cells = rng.choice(100, 80, replace=False)
+    starts = np.stack([cells[:40] % 10, cells[:40] // 10], axis=1) + rng.uniform(0.05, 0.95, (40, 2))
+    goals = np.stack([cells[40:] % 10, cells[40:] // 10], axis=1) + rng.uniform(0.05, 0.95, (40, 2))
+    robots = tuple(Robot(f"r{i}", tuple(s), tuple(g), 0.0, S2) for i, (s, g) in enumerate(zip(starts, goals)))
+    world = World(RectBounds(10, 10), robots=robots)
+    traj = run(world, seed=seed)
+    assert validate_trajectory(world, traj) == []
+    assert arrived(world, traj).all()
+
+
+def test_bad_parameters_raise_config_errors():
+    world = world_from_movingai(DATA / "empty-8-8.map", DATA / "empty-8-8-even-10.scen", 4)
+    with pytest.raises(ConfigError, match="connectivity"):
+        PIBTController(connectivity=6).reset(world, None, np.random.default_rng(0))
+    slow = world.replace(robots=tuple(Robot(r.id, r.start, r.goal, 0.0, 0.5) for r in world.robots))
+    with pytest.raises(ConfigError, match="max_speed"):
+        PIBTController().reset(slow, None, np.random.default_rng(0))
+    big = World(RectBounds(8, 8), robots=(Robot("a", (3.5, 3.5), (5.5, 5.5), 0.6, S2),))
+    with pytest.raises(ConfigError, match="radius"):
+        PIBTController().reset(big, None, np.random.default_rng(0))
+
+
+@pytest.mark.slow
+def test_success_over_seeds_on_crowded_maps():
+    """Statistics: every robot arrives without a contact on every seed."""
+    for name, scen, n in [("random-32-32-10", "random-32-32-10-random-1", 300),
+                          ("maze-32-32-2", "maze-32-32-2-even-10", 150), ("den312d", "den312d-even-10", 200)]:
+        world = world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n)
+        for seed in range(3):
+            traj = run(world, seed=seed)
+            assert traj.status.value == "all_reached" and not traj.contacts, (name, seed)
+
+
+# ---------------------------------------------------------------------------- moving obstacles
+def corridor_world(kind: str, n_obstacles: int, n_robots: int = 6, room: int = 12, height: int = 14) -> World:
+    """Narrow passages: two rooms (``room`` cells wide) joined by 2-wide corridors, one with a
+    1-cell door, and a dead-end niche; robots cross from one room to the other while
+    obstacles of ``kind`` move in the rooms."""
+    w, h = 2 * room + 6, height
+    blocked = np.zeros((h, w), bool)
+    blocked[:, room:room + 6] = True
+    blocked[3:5, room:room + 6] = False          # a 2-wide corridor
+    blocked[h - 5:h - 3, room:room + 6] = False  # another one
+    blocked[h - 4, room + 3] = True              # a door: 1 cell wide in the second corridor
+    blocked[h // 2 - 1:h // 2 + 1, room + 6:room + 10] = True   # a dead-end niche on the right
+    blocked[h // 2, room + 6:room + 9] = False
+    robots = []
+    for i in range(n_robots):
+        y = 1 + (2 * i) % (h - 2)
+        x = 1.5 + i // ((h - 1) // 2)
+        robots.append(Robot(f"r{i}", (x, y + 0.5), (w - 1.5 - i // ((h - 1) // 2), h - 1.5 - y + 1), 0.0, S2))
+    motion = {"bounce": Bounce(), "bounce8": Bounce8(), "turn-every": TurnEvery(5), "random-walk": RandomWalk(),
+              "redraw": Redraw(), "waypoints": None}[kind]
+    obstacles = []
+    rng = np.random.default_rng(n_obstacles)
+    columns = [c + 0.5 for c in range(3, room - 2, 2)] + [c + 0.5 for c in range(room + 11, w - 4, 2)]
+    for j in range(n_obstacles):
+        x = float(columns[j % len(columns)])
+        y = float(2.5 + (3 * j + j // len(columns)) % (h - 4))
+        if kind == "waypoints":
+            mo = MovingObstacle(f"o{j}", Circle((0, 0), 0.4), (x, y), (0.5, 0.0),
+                                Waypoints(((x, h - 1.5), (x, 1.5)), True))
+        else:
+            shape = Rect((-0.4, -0.4), (0.4, 0.4)) if j % 2 else Circle((0, 0), 0.4)
+            mo = MovingObstacle(f"o{j}", shape, (x, y), (0.0, 0.7) if j % 2 else (0.7, 0.0), motion)
+        obstacles.append(mo)
+    return World(RectBounds(w, h), static_map=StaticMap(blocked), robots=tuple(robots),
+                 moving_obstacles=tuple(obstacles), name=f"corridor-{kind}")
+
+
+@pytest.mark.parametrize("kind,count", [("bounce", 5), ("bounce8", 10), ("turn-every", 8), ("random-walk", 12),
+                                        ("redraw", 20), ("waypoints", 6)])
+def test_narrow_passages_with_moving_obstacles(kind, count):
+    world = corridor_world(kind, count)
+    traj = run(world, max_steps=400)
+    kinds = [c.kind for c in traj.contacts]
+    assert "robot_robot" not in kinds and "robot_static" not in kinds
+    assert arrived(world, traj).all(), traj.status
+    # a contact with a moving obstacle only where the robot was cornered (no move led out)
+    cornered = {(e["step"], e["robot"]) for e in traj.events if e.get("kind") == "no_escape"}
+    for c in traj.contacts:
+        assert (c.step, c.robot) in cornered or (c.step - 1, c.robot) in cornered, c
+
+
+@pytest.mark.slow
+def test_many_obstacles_and_robots_in_the_passages_over_seeds():
+    for kind in ("bounce8", "random-walk", "waypoints"):
+        world = corridor_world(kind, 40, n_robots=10, room=22, height=24)
+        for seed in range(2):
+            traj = run(world, seed=seed, max_steps=600)
+            kinds = [c.kind for c in traj.contacts]
+            assert "robot_robot" not in kinds and "robot_static" not in kinds, (kind, seed)
+            assert arrived(world, traj).all(), (kind, seed)
+            cornered = {(e["step"], e["robot"]) for e in traj.events if e.get("kind") == "no_escape"}
+            assert all((c.step, c.robot) in cornered or (c.step - 1, c.robot) in cornered for c in traj.contacts)
+
+
+def test_conflict_table_is_the_move_rules_table():
+    from swarmpath.control.pibt.core import conflict_table
+    for r in (0.0, 0.2, 0.5):
+        assert np.array_equal(conflict_table(r, 1.0).astype(bool), grid_conflict_table(r, r, 1.0))
