@@ -58,6 +58,8 @@ def simulate(world: World, controller: str | Controller, plan: Plan | None = Non
              max_steps: int | None = None, sensing: SensingConfig | None = None,
              progress: Callable[[int, int], None] | None = None) -> Trajectory:
     """Run ``controller`` (a registered name or a configured Controller) on ``world``."""
+    if not isinstance(world, World):
+        raise ConfigError(f"simulate needs a World, got {type(world).__name__}")
     if isinstance(controller, str):
         controller = CONTROLLERS.get(controller)()
     return Simulator(world, controller, plan, seed=seed, max_steps=max_steps, sensing=sensing,
@@ -68,6 +70,11 @@ def run_world(world: World, *, planner: str | None = None, controller: str | Non
               max_steps: int | None = None, sensing: SensingConfig | None = None,
               progress: Callable[[int, int], None] | None = None, clearance: bool = True) -> RunResult:
     """Plan (if the pair needs it), simulate and summarise one run."""
+    if not isinstance(world, World):
+        raise ConfigError(f"run_world needs a World, got {type(world).__name__} (load_scenario() makes one)")
+    for name, value in (("planner", planner), ("controller", controller)):
+        if value is not None and not isinstance(value, str):
+            raise ConfigError(f"{name} must be a registered name, got {type(value).__name__}")
     planner, controller = choose_pair(world, planner, controller)
     plan = None
     planning_time = 0.0

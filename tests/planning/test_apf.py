@@ -56,7 +56,7 @@ def test_trap_scenarios_report_a_local_minimum(name):
     plan = APFPlanner().plan(w)
     r = plan.robots[0]
     assert not r and not plan
-    assert r.status is PlanStatus.TIMEOUT and r.path is None
+    assert r.status is PlanStatus.LOCAL_MINIMUM and r.path is None
     d = r.diagnostics
     assert d["local_minimum"] and d["local_minima"] == 1 and d["stop_reason"] == "no_descent"
     assert d["distance_to_goal"] > w.resolution  # not at the goal
@@ -114,7 +114,7 @@ def test_step_budget():
     robot = Robot("a", (1.5, 1.5), (18.5, 1.5))
     w = World(RectBounds(20, 4), robots=(robot,))
     r = APFPlanner(max_steps=5).plan(w).robots[0]
-    assert not r and r.status is PlanStatus.TIMEOUT
+    assert not r and r.status is PlanStatus.LOCAL_MINIMUM
     assert r.diagnostics["stop_reason"] == "step_budget" and r.diagnostics["steps"] == 5
     field = potential_field(w, robot.goal)
     assert steepest_descent(field, (1, 1), (18, 1), max_steps=100).reached

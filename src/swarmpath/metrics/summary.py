@@ -42,7 +42,8 @@ def deadlocked_robots(traj: Trajectory, window: int = 60) -> list[int]:
 class RobotOutcome:
     """One robot's outcome: executed and planned lengths (world units), the step after which
     it stays at its goal (None if it is not there at the end), the first step it stood there,
-    and the steps it stood still away from its goal."""
+    and the steps it stood still away from its goal; with a planner, its plan's status and
+    the reason in words (why a robot has no plan: a local minimum, an unreachable goal, ...)."""
 
     id: str
     reached: bool
@@ -51,11 +52,14 @@ class RobotOutcome:
     arrival_step: int | None
     first_arrival_step: int | None
     waits: int
+    plan_status: str | None = None
+    plan_reason: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {"id": self.id, "reached": self.reached, "path_length": self.path_length,
                 "planned_length": self.planned_length, "arrival_step": self.arrival_step,
-                "first_arrival_step": self.first_arrival_step, "waits": self.waits}
+                "first_arrival_step": self.first_arrival_step, "waits": self.waits,
+                "plan_status": self.plan_status, "plan_reason": self.plan_reason}
 
 
 @dataclass(frozen=True)
@@ -138,10 +142,12 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
     first = first_arrival_steps(traj.positions, traj.goals)
     robots = []
     for i, rid in enumerate(traj.robot_ids):
-        planned = None
+        planned = status = reason = None
         if plan is not None and i < len(plan.robots):
-            planned = plan.robots[i].length
-        robots.append(RobotOutcome(rid, reached[i], float(lengths[i]), planned, arrivals[i], first[i], int(waits[i])))
+            rp = plan.robots[i]
+            planned, status, reason = rp.length, rp.status.value, rp.reason
+        robots.append(RobotOutcome(rid, reached[i], float(lengths[i]), planned, arrivals[i], first[i], int(waits[i]),
+                                   status, reason))
     everyone = all(reached)
     clearance_value = None
     if clearance and traj.n_robots:

@@ -15,9 +15,8 @@ The goal cell is a sink: a robot next to it steps in (the goal may lie on a cell
 the cells around it have equal attraction).
 
 Statuses: ``EXACT`` with the path when the goal is reached. At a local minimum the plan is
-falsy: status ``TIMEOUT`` (the descent gave up before finding a path -- the only falsy status
-that claims nothing false about the problem: ``INFEASIBLE`` would claim no path exists), path
-``None``, and ``diagnostics["local_minimum"] = True`` with the stop reason, the stop point and
+falsy: status ``LOCAL_MINIMUM`` (the descent stopped short of the goal; ``INFEASIBLE`` would
+claim no path exists), path ``None``, and ``diagnostics["local_minimum"] = True`` with the stop reason, the stop point and
 the partial path (``diagnostics["partial_path"]``, a world polyline from the exact start).
 """
 from __future__ import annotations
@@ -160,7 +159,7 @@ def apf_robot(world, robot, params: FieldParameters, max_steps: int | None = Non
     diag.update({"stop_point": stop, "stop_cell": descent.cells[-1].copy(), "partial_path": partial,
                  "distance_to_goal": float(np.linalg.norm(stop - np.asarray(robot.goal, float))),
                  "time_s": time.perf_counter() - t0})
-    return APFOutcome(RobotPlan(robot.id, PlanStatus.TIMEOUT, None, diag), field, descent)
+    return APFOutcome(RobotPlan(robot.id, PlanStatus.LOCAL_MINIMUM, None, diag), field, descent)
 
 
 def _check_budget(max_steps: int | None) -> None:

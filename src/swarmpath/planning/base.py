@@ -23,9 +23,21 @@ class PlanStatus(enum.Enum):
     EXACT = "exact"                  # a path to the goal
     APPROXIMATE = "approximate"      # a path that ends near, not at, the goal
     TIMEOUT = "timeout"              # the budget ran out before a path was found
+    LOCAL_MINIMUM = "local_minimum"  # the method stopped short of the goal (a potential field's minimum)
     INVALID_START = "invalid_start"  # the start is blocked or outside the planner's grid
     INVALID_GOAL = "invalid_goal"    # the goal is blocked or outside the planner's grid
     INFEASIBLE = "infeasible"        # no path exists
+
+
+_STATUS_WORDS = {
+    PlanStatus.EXACT: "a path to the goal",
+    PlanStatus.APPROXIMATE: "a path that ends near the goal",
+    PlanStatus.TIMEOUT: "the planner's budget ran out before it found a path",
+    PlanStatus.LOCAL_MINIMUM: "stuck in a local minimum short of the goal",
+    PlanStatus.INVALID_START: "the start is blocked or off the planner's grid",
+    PlanStatus.INVALID_GOAL: "the goal is blocked or off the planner's grid",
+    PlanStatus.INFEASIBLE: "no path exists",
+}
 
 
 @dataclass(frozen=True)
@@ -45,6 +57,17 @@ class RobotPlan:
 
     def __bool__(self) -> bool:
         return self.path is not None and self.status in (PlanStatus.EXACT, PlanStatus.APPROXIMATE)
+
+    @property
+    def reason(self) -> str:
+        """Why the plan is what it is, in words (for tables and JSON)."""
+        given = self.diagnostics.get("reason") if isinstance(self.diagnostics, Mapping) else None
+        if given:
+            return str(given)
+        if self.status is PlanStatus.LOCAL_MINIMUM and "stop_point" in self.diagnostics:
+            x, y = (float(v) for v in self.diagnostics["stop_point"])
+            return f"stuck in a local minimum at ({x:g}, {y:g})"
+        return _STATUS_WORDS[self.status]
 
     @property
     def length(self) -> float | None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import enum
 import json
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -15,7 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.errors import SwarmpathError
-from swarmpath.sim.collisions import Contact
+from swarmpath.sim.collisions import ROBOT_MOVING, ROBOT_ROBOT, ROBOT_STATIC, Contact
+from swarmpath.world.limits import preview, read_text_bounded
 
 FloatArray = NDArray[np.float64]
 
@@ -97,14 +99,15 @@ class Trajectory:
         }
 
     def to_json_dict(self) -> dict[str, Any]:
-        """A JSON-ready dict (positions rounded to 1e-6 world units)."""
+        """A JSON-ready dict; numbers are written in full (the .json copy reads back exactly as
+        the .npz one, so validators give the same verdict on both)."""
         doc = self._header()
         doc.update({
             "radii": self.radii.tolist(), "goals": self.goals.tolist(),
-            "positions": np.round(self.positions, 6).tolist(),
-            "obstacle_positions": np.round(self.obstacle_positions, 6).tolist(),
+            "positions": self.positions.tolist(),
+            "obstacle_positions": self.obstacle_positions.tolist(),
             "modes": None if self.modes is None else self.modes.tolist(),
-            "planned_paths": [None if p is None else np.round(p, 6).tolist() for p in self.planned_paths],
+            "planned_paths": [None if p is None else np.asarray(p).tolist() for p in self.planned_paths],
             "static_map": None if self.static_map is None else ["".join("@" if b else "." for b in row)
                                                                 for row in self.static_map],
         })
@@ -134,22 +137,44 @@ class Trajectory:
 
     @classmethod
     def load(cls, path: str | Path) -> "Trajectory":
-        """Read a trajectory written by :meth:`save`."""
+        """Read a trajectory written by :meth:`save`; anything else is refused with one line
+        saying what is wrong (never a traceback from numpy or json)."""
         path = Path(path)
+        if path.suffix == ".json":
+            text = read_text_bounded(path, "trajectory", MAX_TRAJECTORY_BYTES, SwarmpathError)
+            try:
+                doc = json.loads(text)
+                return cls._from_json(doc)
+            except json.JSONDecodeError as exc:
+                problem = f"line {exc.lineno}: JSON syntax error: {exc.msg}"
+            except RecursionError:
+                problem = "nested too deeply"
+            except (ValueError, KeyError, TypeError, AttributeError, IndexError) as exc:
+                problem = preview(str(exc) or type(exc).__name__, 200)
+            raise SwarmpathError(f"{path}: not a swarmpath trajectory: {problem}")
         try:
-            if path.suffix == ".json":
-                return cls._from_json(json.loads(path.read_text(encoding="utf-8")))
-            with np.load(path, allow_pickle=False) as data:
-                return cls._from_npz(data)
+            with path.open("rb") as fh:
+                magic = fh.read(4)
         except FileNotFoundError:
             raise SwarmpathError(f"{path}: no such trajectory file") from None
-        except (ValueError, KeyError, OSError, json.JSONDecodeError) as exc:
-            raise SwarmpathError(f"{path}: not a swarmpath trajectory ({type(exc).__name__}: {exc})") from None
+        except OSError as exc:
+            raise SwarmpathError(f"{path}: cannot read the trajectory file: {exc.strerror or exc}") from None
+        if magic != b"PK\x03\x04":
+            raise SwarmpathError(f"{path}: not a swarmpath trajectory: not an .npz archive (save as .npz or .json)")
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                return cls._from_npz(data)
+        except (ValueError, KeyError, TypeError, AttributeError, IndexError, OSError, EOFError,
+                zipfile.BadZipFile, json.JSONDecodeError) as exc:
+            problem = str(exc)
+            if "pickle" in problem:
+                problem = "an array in it holds Python objects, not numbers"
+            raise SwarmpathError(f"{path}: not a swarmpath trajectory: {preview(problem, 200)}") from None
 
     @classmethod
-    def _from_header(cls, h: dict, **arrays: Any) -> "Trajectory":
-        if h.get("format") != "swarmpath-trajectory":
-            raise ValueError("missing format marker")
+    def _from_header(cls, h: Any, **arrays: Any) -> "Trajectory":
+        _check_header(h)
+        arrays = _check_arrays(h, arrays)
         return cls(scenario=h["scenario"], seed=h["seed"], dt=h["dt"], resolution=h["resolution"],
                    robot_ids=list(h["robot_ids"]), obstacle_ids=list(h["obstacle_ids"]),
                    contacts=[Contact(**c) for c in h["contacts"]], events=list(h["events"]),
@@ -157,23 +182,105 @@ class Trajectory:
                    **arrays)
 
     @classmethod
-    def _from_json(cls, d: dict) -> "Trajectory":
+    def _from_json(cls, d: Any) -> "Trajectory":
+        if not isinstance(d, dict):
+            raise ValueError(f"the file holds a JSON {type(d).__name__}, not an object")
+        _check_header(d)
         sm = d.get("static_map")
+        n_rows = len(d["positions"]) if isinstance(d["positions"], list) else 0
+        if sm is not None and not (isinstance(sm, list) and all(isinstance(row, str) for row in sm)):
+            raise ValueError("static_map must be a list of strings")
         return cls._from_header(
-            d, radii=np.asarray(d["radii"], float), goals=np.asarray(d["goals"], float).reshape(-1, 2),
-            positions=np.asarray(d["positions"], float).reshape(len(d["positions"]), -1, 2),
-            obstacle_positions=np.asarray(d["obstacle_positions"], float).reshape(len(d["positions"]), -1, 2),
-            modes=None if d.get("modes") is None else np.asarray(d["modes"], np.int8),
+            d, radii=np.asarray(d["radii"], float), goals=np.asarray(d["goals"], float),
+            positions=np.asarray(d["positions"], float),
+            obstacle_positions=np.asarray(d["obstacle_positions"], float).reshape(n_rows, -1, 2),
+            modes=None if d.get("modes") is None else np.asarray(d["modes"], np.int64),
             planned_paths=[None if p is None else np.asarray(p, float) for p in d.get("planned_paths", [])],
             static_map=None if sm is None else np.array([[c == "@" for c in row] for row in sm], dtype=bool))
 
     @classmethod
     def _from_npz(cls, data) -> "Trajectory":
+        if "header" not in data.files:
+            raise ValueError("no header in the archive")
         h = json.loads(str(data["header"]))
-        n_planned = int(data["n_planned"])
+        n_planned = int(data["n_planned"]) if "n_planned" in data.files else 0
         planned = [np.asarray(data[f"planned_{k}"]) if f"planned_{k}" in data.files else None for k in range(n_planned)]
         return cls._from_header(
             h, radii=np.asarray(data["radii"]), goals=np.asarray(data["goals"]),
             positions=np.asarray(data["positions"]), obstacle_positions=np.asarray(data["obstacle_positions"]),
             modes=np.asarray(data["modes"]) if "modes" in data.files else None, planned_paths=planned,
             static_map=np.asarray(data["static_map"]) if "static_map" in data.files else None)
+
+
+#: Largest trajectory file read (bytes).
+MAX_TRAJECTORY_BYTES = 2**30
+_CONTACT_KEYS = {"step", "kind", "robot", "other", "detail"}
+
+
+def _check_header(h: Any) -> None:
+    """Refuse a header that is not what :meth:`Trajectory.save` writes (ValueError)."""
+    if not isinstance(h, dict) or h.get("format") != "swarmpath-trajectory":
+        raise ValueError("missing format marker 'swarmpath-trajectory'")
+    for key, kinds in (("scenario", str), ("seed", int), ("dt", (int, float)), ("resolution", (int, float)),
+                       ("robot_ids", list), ("obstacle_ids", list), ("contacts", list), ("events", list),
+                       ("mode_names", list), ("status", str), ("world", dict), ("meta", dict)):
+        if key not in h:
+            raise ValueError(f"no {key!r} field")
+        if not isinstance(h[key], kinds) or isinstance(h[key], bool):
+            raise ValueError(f"{key!r} has the wrong type ({type(h[key]).__name__})")
+    if not (h["dt"] > 0 and h["resolution"] > 0):
+        raise ValueError("dt and resolution must be positive")
+    for key in ("robot_ids", "obstacle_ids", "mode_names"):
+        if not all(isinstance(v, str) for v in h[key]):
+            raise ValueError(f"{key!r} must be a list of strings")
+    if len(set(h["robot_ids"])) != len(h["robot_ids"]):
+        raise ValueError("'robot_ids' has repeats")
+    n = len(h["robot_ids"])
+    for c in h["contacts"]:
+        if not (isinstance(c, dict) and set(c) == _CONTACT_KEYS and c["kind"] in (ROBOT_ROBOT, ROBOT_STATIC, ROBOT_MOVING)
+                and all(isinstance(c[k], int) and not isinstance(c[k], bool) for k in ("step", "robot", "other"))
+                and isinstance(c["detail"], str) and 0 <= c["robot"] < n):
+            raise ValueError(f"a contact is malformed: {preview(c, 120)}")
+    if not all(isinstance(e, dict) for e in h["events"]):
+        raise ValueError("'events' must be a list of objects")
+
+
+def _check_arrays(h: dict, arrays: dict[str, Any]) -> dict[str, Any]:
+    """Shapes and values consistent with the header (ValueError otherwise)."""
+    n, m = len(h["robot_ids"]), len(h["obstacle_ids"])
+    pos = np.asarray(arrays["positions"], dtype=float)
+    if pos.ndim != 3 or pos.shape[0] < 1 or pos.shape[1:] != (n, 2):
+        raise ValueError(f"positions have shape {pos.shape}, expected (steps + 1, {n}, 2)")
+    if not np.all(np.isfinite(pos)):
+        raise ValueError("positions hold non-finite numbers")
+    obstacles = np.asarray(arrays["obstacle_positions"], dtype=float).reshape(pos.shape[0], -1, 2) \
+        if np.size(arrays["obstacle_positions"]) or m == 0 else np.asarray(arrays["obstacle_positions"], float)
+    if obstacles.shape != (pos.shape[0], m, 2):
+        raise ValueError(f"obstacle positions have shape {obstacles.shape}, expected ({pos.shape[0]}, {m}, 2)")
+    radii = np.asarray(arrays["radii"], dtype=float)
+    goals = np.asarray(arrays["goals"], dtype=float).reshape(-1, 2) if np.size(arrays["goals"]) else np.zeros((0, 2))
+    if radii.shape != (n,) or goals.shape != (n, 2):
+        raise ValueError(f"radii/goals have shapes {radii.shape}/{goals.shape}, expected ({n},)/({n}, 2)")
+    modes = arrays.get("modes")
+    if modes is not None:
+        modes = np.asarray(modes)
+        if modes.ndim != 2 or modes.shape[1] != n or modes.shape[0] > pos.shape[0] - 1:
+            raise ValueError(f"modes have shape {modes.shape}, expected (at most {pos.shape[0] - 1}, {n})")
+        if modes.size and (modes.min() < 0 or modes.max() >= len(h["mode_names"])):
+            raise ValueError("modes refer to behaviour names that are not listed")
+        modes = modes.astype(np.int8)
+    planned = []
+    for p in arrays.get("planned_paths") or []:
+        if p is not None:
+            p = np.asarray(p, dtype=float)
+            if p.ndim != 2 or p.shape[1] != 2:
+                raise ValueError(f"a planned path has shape {p.shape}, expected (points, 2)")
+        planned.append(p)
+    static_map = arrays.get("static_map")
+    if static_map is not None:
+        static_map = np.asarray(static_map)
+        if static_map.ndim != 2:
+            raise ValueError("static_map must be 2-D")
+        static_map = static_map.astype(bool)
+    return {**arrays, "positions": pos, "obstacle_positions": obstacles, "radii": radii, "goals": goals,
+            "modes": modes, "planned_paths": planned, "static_map": static_map}

@@ -13,7 +13,14 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from swarmpath.errors import ConfigError
 from swarmpath.sim.collisions import step_contacts
+from swarmpath.world.world import World
+
+
+def _check_world(world: object) -> None:
+    if not isinstance(world, World):
+        raise ConfigError(f"a validator needs a World, got {type(world).__name__}")
 
 
 @dataclass(frozen=True)
@@ -35,6 +42,9 @@ def validate_paths(world, paths: Sequence[ArrayLike | None], *, require_all: boo
     ends at its goal, and no segment enters a static obstacle or leaves the workspace
     (for the robot's radius). ``None`` is a violation when ``require_all``."""
     out: list[Violation] = []
+    _check_world(world)
+    if isinstance(paths, (str, bytes)) or not hasattr(paths, "__len__"):
+        raise ConfigError(f"paths must be a sequence of one path per robot, got {type(paths).__name__}")
     if len(paths) != world.n_robots:
         return [Violation(-1, "paths", f"{len(paths)} paths for {world.n_robots} robots")]
     for i, (robot, path) in enumerate(zip(world.robots, paths)):
@@ -42,7 +52,11 @@ def validate_paths(world, paths: Sequence[ArrayLike | None], *, require_all: boo
             if require_all:
                 out.append(Violation(i, "path", "no path"))
             continue
-        p = np.asarray(path, dtype=float)
+        try:
+            p = np.asarray(path, dtype=float)
+        except (TypeError, ValueError):
+            out.append(Violation(i, "path", "is not an array of (x, y) points"))
+            continue
         if p.ndim != 2 or p.shape[1] != 2 or len(p) < 1:
             out.append(Violation(i, "path", f"must have shape (n_points, 2), got {p.shape}"))
             continue
@@ -65,16 +79,26 @@ def validate_trajectory(world, traj) -> list[Violation]:
     """Re-check a recorded trajectory: starts match, no step exceeds a robot's speed, and no
     contact of any kind (robot-robot, robot-static, robot-moving) happened at any step."""
     out: list[Violation] = []
-    pos = np.asarray(traj.positions, float)
-    if pos.ndim != 3 or pos.shape[1] != world.n_robots:
+    _check_world(world)
+    try:
+        pos = np.asarray(traj.positions, float)
+        obs = np.asarray(traj.obstacle_positions, float)
+    except (AttributeError, TypeError, ValueError):
+        raise ConfigError(f"validate_trajectory needs a Trajectory, got {type(traj).__name__}") from None
+    if pos.ndim != 3 or pos.shape[1:] != (world.n_robots, 2) or pos.shape[0] < 1:
         return [Violation(-1, "positions", f"shape {pos.shape} does not fit {world.n_robots} robots")]
+    if obs.shape != (pos.shape[0], len(world.moving_obstacles), 2):
+        return [Violation(-1, "obstacle_positions", f"shape {obs.shape} does not fit "
+                                                    f"{len(world.moving_obstacles)} obstacles")]
+    bad = np.argwhere(~np.all(np.isfinite(pos), axis=2))
+    if len(bad):
+        return [Violation(int(i), f"step {int(t)}", "position is not a finite number") for t, i in bad[:20]]
     if not np.allclose(pos[0], world.starts):
         out.append(Violation(-1, "step 0", "positions do not start at the robots' starts"))
     steps = np.linalg.norm(np.diff(pos, axis=0), axis=2)
     limit = world.max_speeds * world.dt * (1 + 1e-9) + 1e-12
     for t, i in np.argwhere(steps > limit[None]):
         out.append(Violation(int(i), f"step {t + 1}", f"moved {steps[t, i]:.6g} > max {limit[i]:.6g}"))
-    obs = np.asarray(traj.obstacle_positions, float)
     for t in range(1, pos.shape[0]):
         for c in step_contacts(world, t, pos[t - 1], pos[t], obs[t - 1], obs[t]):
             other = "" if c.other < 0 else f" with {'robot' if c.kind == 'robot_robot' else 'obstacle'} {c.other}"

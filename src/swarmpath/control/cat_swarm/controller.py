@@ -38,6 +38,7 @@ from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor, priority_order
 from swarmpath.control.cat_swarm.reservation import reserve_moves
 from swarmpath.control.cell_paths import plan_cells, remaining_lengths
+from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.observation import CLASS_INDEX, Observation
 from swarmpath.errors import ConfigError
@@ -123,15 +124,7 @@ class CatSwarmController(Controller):
         res = world.resolution
         self.world_ = world
         self.reach_ = world.max_speeds * world.dt
-        slow = np.flatnonzero(self.reach_ < res * (1 - 1e-9))
-        if len(slow):
-            raise ConfigError(f"cat-swarm moves one grid cell per step: robot {world.robots[slow[0]].id!r} "
-                              f"has max_speed * dt = {self.reach_[slow[0]]:g} < resolution {res:g}")
-        big = np.flatnonzero(world.radii > res / 2 + 1e-12)
-        if len(big):
-            raise ConfigError(f"cat-swarm moves point robots cell to cell (the paper's robots are points): robot "
-                              f"{world.robots[big[0]].id!r} has radius {world.radii[big[0]]:g} > half a cell "
-                              f"({res / 2:g}); use a finer resolution or a continuous controller (pso-predictive)")
+        check_grid_robots(world, "cat-swarm")
         grid = world.grid(radius=float(world.radii.max(initial=0.0)))
         self.grid_ = grid
         blocked = grid.blocked

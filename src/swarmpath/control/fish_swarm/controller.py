@@ -34,8 +34,20 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
-from swarmpath.control.fish_swarm.behaviours import (ARRIVED, FOOD_MODELS, NEIGHBOURS, PREY, WAIT, FloatArray, IntArray,
-                                                     fish_decision, food_euclidean, food_from_field, visible_fish)
+from swarmpath.control.fish_swarm.behaviours import (
+    ARRIVED,
+    FOOD_MODELS,
+    NEIGHBOURS,
+    PREY,
+    WAIT,
+    FloatArray,
+    IntArray,
+    fish_decision,
+    food_euclidean,
+    food_from_field,
+    visible_fish,
+)
+from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.observation import Observation
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
@@ -92,6 +104,7 @@ class FishSwarmController(Controller):
 
     # ------------------------------------------------------------------ run state
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
+        check_grid_robots(world, "fish-swarm", max_radius_cells=float("inf"))  # it checks discs exactly
         self.world_ = world
         self.rng_ = rng
         self.grids_ = [world.grid(radius=r.radius) for r in world.robots]

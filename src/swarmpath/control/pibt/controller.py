@@ -21,10 +21,20 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.observation import Observation
-from swarmpath.control.pibt.core import (DIAGONAL_MOVE, PUSHED, STAY, check_connectivity, GridGraph, decision_order,
-                                         pibt_step, static_moves, update_priorities)
+from swarmpath.control.pibt.core import (
+    DIAGONAL_MOVE,
+    PUSHED,
+    STAY,
+    GridGraph,
+    check_connectivity,
+    decision_order,
+    pibt_step,
+    static_moves,
+    update_priorities,
+)
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
@@ -114,12 +124,7 @@ class PIBTController(Controller):
         radius = float(world.radii.max(initial=0.0))
         self.reach_ = world.max_speeds * world.dt
         self.diag_ok_ = self.reach_ >= res * np.sqrt(2) * (1 - 1e-9)
-        slow = np.flatnonzero(self.reach_ < res * (1 - 1e-9))
-        if len(slow):
-            raise ConfigError(f"pibt moves one grid cell per step: robot {world.robots[slow[0]].id!r} has "
-                              f"max_speed * dt = {self.reach_[slow[0]]:g} < resolution {res:g}")
-        if radius > res / 2 + 1e-12:
-            raise ConfigError(f"pibt handles robots of radius up to half a cell ({res / 2:g}), got {radius:g}")
+        check_grid_robots(world, "pibt")
         grid = world.grid(radius=radius)
         self.world_ = world
         self.grid_ = grid

@@ -1,0 +1,4 @@
+"""``python -m swarmpath.cli``."""
+from swarmpath.cli import main
+
+main()
