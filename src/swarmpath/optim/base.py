@@ -38,6 +38,11 @@ class RunOutput(NamedTuple):
     pareto_f: NDArray[np.float64] | None = None
 
 
+#: Largest swarm (particles x dimensions) a run may ask for: a few arrays of this many floats
+#: must fit in memory several times over.
+MAX_SWARM_VALUES = 50_000_000
+
+
 @dataclasses.dataclass(frozen=True)
 class Optimizer(abc.ABC):
     """Base class: ``minimize(problem, *, iterations, particles, rng)`` -> OptimizeResult.
@@ -101,6 +106,9 @@ class Optimizer(abc.ABC):
             )
         iterations = check_int(owner, "iterations", iterations, 1)
         particles = check_int(owner, "particles", particles, self.min_particles)
+        if particles * problem.dim > MAX_SWARM_VALUES:
+            raise ConfigError(f"{owner}: a swarm of {particles:,} particles in {problem.dim:,} dimensions holds "
+                              f"{particles * problem.dim:,} numbers per array; at most {MAX_SWARM_VALUES:,}")
         if max_evaluations is not None:
             max_evaluations = check_int(owner, "max_evaluations", max_evaluations, 1)
             if max_evaluations < particles:
