@@ -1,5 +1,6 @@
-"""Build the C extensions: swarmpath.search (grid A* and distance fields) and swarmpath.optim
-(one particle-swarm move); all other metadata lives in pyproject.toml."""
+"""Build the C extensions: swarmpath.search (grid A* and distance fields), swarmpath.optim
+(one particle-swarm move) and swarmpath.control.orca (ORCA's linear programs); all other
+metadata lives in pyproject.toml."""
 from setuptools import Extension, setup
 
 setup(
@@ -13,6 +14,12 @@ setup(
             "swarmpath.optim._swarmstep",
             ["src/swarmpath/optim/_swarmstep.c"],
             # no fused multiply-add: the loop must round exactly as the numpy reference kernels
+            extra_compile_args=["-O3", "-ffp-contract=off"],
+        ),
+        Extension(
+            "swarmpath.control.orca._orcalp",
+            ["src/swarmpath/control/orca/_orcalp.c"],
+            # no fused multiply-add: the loop must round exactly as the Python reference (lp.py)
             extra_compile_args=["-O3", "-ffp-contract=off"],
         ),
     ]
