@@ -1,2 +1,12 @@
-"""ORCA (van den Berg, Guy, Lin & Manocha, ISRR 2011): reciprocal collision avoidance in
-continuous space, a safety layer any continuous controller can use, and shared guidance."""
+"""ORCA (van den Berg, Guy, Lin & Manocha, "Reciprocal n-Body Collision Avoidance", ISRR 2011):
+reciprocal collision avoidance in continuous space for disc robots, the ``orca`` controller,
+a safety layer any continuous controller can put in front of its moves, and the guidance
+(preferred velocities along plans or distance fields) every continuous controller can share.
+
+Importing this package registers the ``orca`` controller.
+"""
+from swarmpath.control.orca.controller import ORCAController
+from swarmpath.control.orca.core import ORCAParams, ORCASolver
+from swarmpath.control.orca.guidance import Guidance, velocity_toward
+
+__all__ = ["ORCAController", "ORCAParams", "ORCASolver", "Guidance", "velocity_toward"]

@@ -1,0 +1,314 @@
+"""One ORCA step for all robots: the half-planes of every robot (static geometry, moving
+obstacles, neighbours), the batched linear programs, and the exact check that makes each
+straight move of one step contact-free under the simulator's own rules.
+
+:class:`ORCASolver` is shared by the ``orca`` controller and :class:`SafetyLayer`; it holds
+per-run geometry (built in :meth:`ORCASolver.reset`) and no per-step state: callers pass the
+robots' current velocities.
+
+Lines per robot, in three tiers (see :func:`swarmpath.control.orca.lp.solve_orca_lp`):
+
+- hard (velocity 0 always permitted): every static feature within reach, through its
+  closest point, horizon ``obstacle_time_horizon`` (RVO2's obstacle lines, linearised); the
+  rim of a circular workspace; each moving obstacle's current footprint, which stands still
+  during the robots' move (phase 2), horizon ``dt``;
+- firm: the end of the step keeps clear of the obstacle's next move (phase 1 of the next
+  step: the predicted sweep, or the one-step reach disc when the model may turn), horizon
+  ``dt``, allowed to demand a flight away;
+- soft: ORCA's non-reciprocal lines for moving obstacles (responsibility 1, their
+  predicted velocity, horizon ``time_horizon``) and the reciprocal lines of up to
+  ``max_neighbours`` robots within ``neighbour_distance`` (responsibility 1/2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial import cKDTree
+
+from swarmpath.control.orca import kernels
+from swarmpath.control.orca.halfplanes import clearance_halfplanes, halfplane_below, orca_halfplanes_robots
+from swarmpath.control.orca.obstacles import ObstacleForecast, RedrawGuard, footprint_offsets
+from swarmpath.control.orca.static_features import StaticFeatures, closest_on_segments
+from swarmpath.errors import ConfigError
+from swarmpath.world import geometry as g
+from swarmpath.world.move_rules import NO_CONFLICT, move_conflicts
+from swarmpath.world.shapes import Circle
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+IntArray = NDArray[np.int64]
+
+#: Fractions of the chosen move tried, in order, when the exact check rejects it.
+SCALES = (1.0, 0.5, 0.25, 0.0)
+#: Slack of the exact checks beyond the simulator's own (world units).
+CHECK_SLACK = 1e-7
+
+
+@dataclass(frozen=True)
+class ORCAParams:
+    """ORCA's hyperparameters (RVO2's names in brackets).
+
+    time_horizon : tau of robot-robot and moving-obstacle lines [timeHorizon], time units
+    obstacle_time_horizon : tau of static lines [timeHorizonObst]; at least one step is used
+    neighbour_distance : robots farther apart than this are ignored [neighborDist], world units
+    max_neighbours : at most this many nearest robots give lines [maxNeighbors]
+    safety_margin : added to every combined radius and static clearance (world units); near
+        a goal closer to a wall than this, that robot's static margin shrinks to half the gap
+    """
+
+    time_horizon: float = 4.0
+    obstacle_time_horizon: float = 2.0
+    neighbour_distance: float = 8.0
+    max_neighbours: int = 10
+    safety_margin: float = 0.02
+
+    def __post_init__(self) -> None:
+        for name in ("time_horizon", "obstacle_time_horizon", "neighbour_distance"):
+            if not getattr(self, name) > 0:
+                raise ConfigError(f"{name} must be > 0, got {getattr(self, name)}")
+        if self.max_neighbours < 0:
+            raise ConfigError(f"max_neighbours must be >= 0, got {self.max_neighbours}")
+        if not self.safety_margin >= 0:
+            raise ConfigError(f"safety_margin must be >= 0, got {self.safety_margin}")
+
+
+@dataclass(frozen=True)
+class SafeMoves:
+    """Result of :meth:`ORCASolver.make_safe`: end positions (n, 2), the fraction of the
+    proposed move kept (n,), and robots whose end position could not be kept out of a moving
+    obstacle's next move (n,) (cornered)."""
+
+    positions: FloatArray
+    scale: FloatArray
+    exposed: BoolArray
+
+
+class ORCASolver:
+    """ORCA for all robots of a world (built by :meth:`reset`, used every step)."""
+
+    def __init__(self, params: ORCAParams | None = None):
+        self.params = params or ORCAParams()
+
+    def reset(self, world) -> None:
+        """Precompute the world's static features, radii, speeds and margins."""
+        p = self.params
+        self.world = world
+        self.dt = float(world.dt)
+        self.features = StaticFeatures(world)
+        self.radii = world.radii
+        self.speeds = world.max_speeds
+        self.step_len = self.speeds * self.dt
+        self.tau = float(p.time_horizon)
+        self.tau_static = max(float(p.obstacle_time_horizon), self.dt)
+        n = world.n_robots
+        # a static margin a robot can live with at its goal
+        if n:
+            room = world.static_clearance(world.goals, self.radii)
+            self.static_margin = np.clip(0.5 * room, 0.0, p.safety_margin)
+        else:
+            self.static_margin = np.zeros(0)
+        self.points = self.radii == 0
+        self.resolution = float(world.resolution)
+        self.redraw = RedrawGuard(world) if any(getattr(o.motion, "kind", "") == "redraw"
+                                                for o in world.moving_obstacles) else None
+        self.has_static = bool(len(world.obstacles) or world.static_map is not None)
+        self.shapes = [o.shape for o in world.moving_obstacles]
+
+    # ------------------------------------------------------------------ contact distances
+    def combined_radius(self, i: IntArray, j: IntArray) -> FloatArray:
+        """Distance robots i and j keep (plus the margin): the sum of radii, or a cell
+        diagonal for two point robots (then they can never share or swap grid cells)."""
+        rsum = self.radii[i] + self.radii[j]
+        both = self.points[i] & self.points[j]
+        return np.where(both, np.sqrt(2.0) * self.resolution, rsum) + self.params.safety_margin
+
+    # ------------------------------------------------------------------ lines
+    def lines(self, pos: FloatArray, vel: FloatArray, forecast: ObstacleForecast | None
+              ) -> tuple[FloatArray, IntArray, IntArray, IntArray]:
+        """Every robot's lines, packed (see :func:`kernels.pack_lines`)."""
+        n = len(pos)
+        p = self.params
+        owners, pts, dirs, tiers = [], [], [], []
+
+        def add(owner, lp, ld, tier):
+            if len(owner):
+                owners.append(np.asarray(owner, np.int64))
+                pts.append(lp)
+                dirs.append(ld)
+                tiers.append(np.full(len(owner), tier, np.int64))
+
+        clearance = self.radii + self.static_margin
+        # hard: static features and the workspace
+        reach = clearance + self.speeds * self.tau_static + 1e-9
+        owner, offset = self.features.closest(pos, reach)
+        add(owner, *clearance_halfplanes(offset, clearance[owner], self.tau_static, floor=0.0), 0)
+        owner, normal, room = self.features.bound_lines(pos, clearance, self.step_len)
+        add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / self.tau_static), 0)
+        # moving obstacles: hard (this step's footprint), firm (next move), soft (ORCA)
+        if forecast is not None and len(forecast.now):
+            self._obstacle_lines(pos, vel, forecast, add)
+        # robots: reciprocal ORCA lines of the nearest neighbours
+        if n > 1 and p.max_neighbours > 0:
+            i, j = self.neighbours(pos)
+            if len(i):
+                lp_, ld_ = orca_halfplanes_robots(pos[j] - pos[i], vel[i] - vel[j], vel[i],
+                                                  self.combined_radius(i, j), self.tau, self.dt, 0.5)
+                add(i, lp_, ld_, 2)
+        if owners:
+            return kernels.pack_lines(np.concatenate(owners), np.concatenate(pts), np.concatenate(dirs),
+                                      np.concatenate(tiers), n)
+        return kernels.pack_lines(np.zeros(0, np.int64), np.zeros((0, 2)), np.zeros((0, 2)),
+                                  np.zeros(0, np.int64), n)
+
+    def _obstacle_lines(self, pos, vel, fc: ObstacleForecast, add) -> None:
+        n = len(pos)
+        m = len(fc.now)
+        p = self.params
+        r = self.radii + p.safety_margin
+        dist = np.linalg.norm(pos[:, None, :] - fc.now[None], axis=-1)               # (n, m)
+        grown = fc.extent[None] + fc.reach[None] + np.linalg.norm(fc.next - fc.now, axis=1)[None]
+        near = dist <= r[:, None] + grown + 2 * self.step_len[:, None] + 1e-9
+        i, j = np.nonzero(near)
+        if len(i):
+            # hard: the footprint standing at `now` during this move
+            off = footprint_offsets(self.world, fc.now, pos, i, j)
+            add(i, *clearance_halfplanes(off, r[i], self.dt, floor=0.0), 0)
+            # firm: the end disc clear of the next move (jumping obstacles: see RedrawGuard)
+            keep = ~fc.jumping[j]
+            ii, jj = i[keep], j[keep]
+            q = closest_on_segments(pos[ii], fc.now[jj], fc.next[jj])
+            add(ii, *clearance_halfplanes(q - pos[ii], r[ii] + fc.extent[jj] + fc.reach[jj], self.dt, floor=None), 1)
+        # soft: ORCA with full responsibility, for obstacles within the neighbour distance
+        seen = (dist <= p.neighbour_distance + fc.extent[None]) & ~fc.jumping[None]
+        i, j = np.nonzero(seen)
+        if len(i):
+            lp_, ld_ = orca_halfplanes_robots(fc.now[j] - pos[i], vel[i] - fc.velocity[j], vel[i],
+                                              r[i] + fc.extent[j] + fc.reach[j], self.tau, self.dt, 1.0)
+            add(i, lp_, ld_, 2)
+        del n, m
+
+    def neighbours(self, pos: FloatArray) -> tuple[IntArray, IntArray]:
+        """(i, j) pairs: for each robot i its up to ``max_neighbours`` nearest robots j within
+        ``neighbour_distance``, nearest first."""
+        p = self.params
+        k = min(p.max_neighbours + 1, len(pos))
+        dist, idx = cKDTree(pos).query(pos, k=k, distance_upper_bound=p.neighbour_distance)
+        dist = dist.reshape(len(pos), k)
+        idx = idx.reshape(len(pos), k)
+        ii = np.repeat(np.arange(len(pos)), k).reshape(len(pos), k)
+        ok = np.isfinite(dist) & (idx != ii) & (idx < len(pos))
+        return ii[ok].astype(np.int64), idx[ok].astype(np.int64)
+
+    # ------------------------------------------------------------------ velocities
+    def velocities(self, pos: FloatArray, vel: FloatArray, preferred: FloatArray,
+                   forecast: ObstacleForecast | None) -> tuple[FloatArray, IntArray]:
+        """New velocities (n, 2) and LP statuses (n,) (0 all lines held, 1 robot lines
+        relaxed, 2 obstacle lines relaxed, 3 none possible)."""
+        lines, n_lines, n_hard, n_firm = self.lines(pos, vel, forecast)
+        return kernels.solve_lines(lines, n_lines, n_hard, n_firm, preferred, self.speeds)
+
+    # ------------------------------------------------------------------ exact checks
+    def static_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray) -> BoolArray:
+        """Moves a -> b of robots ``rows`` that enter static geometry or leave the workspace
+        (the simulator's test, with a hair of slack)."""
+        moved = np.any(a != b, axis=1)
+        out = np.zeros(len(rows), bool)
+        if moved.any():
+            k = np.flatnonzero(moved)
+            out[k] = self.world.static_hits(a[k], b[k], self.radii[rows[k]] + CHECK_SLACK)
+        return out
+
+    def obstacle_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray, fc: ObstacleForecast | None
+                        ) -> tuple[BoolArray, BoolArray]:
+        """(hard, soft) per move: hard = the swept disc enters a footprint standing at
+        ``now`` (phase 2); soft = the end disc lies where an obstacle's next move may reach
+        (phase 1 of the next step; redraw jumps are tested by :meth:`redraw_unsafe`)."""
+        hard = np.zeros(len(rows), bool)
+        soft = np.zeros(len(rows), bool)
+        if fc is None or not len(fc.now):
+            return hard, soft
+        r = self.radii[rows] + CHECK_SLACK
+        for j, shape in enumerate(self.shapes):
+            o = fc.now[j]
+            if isinstance(shape, Circle):
+                hard |= g.point_segment_distance(o, a, b) < shape.radius + r
+            else:
+                lo, hi = o + np.asarray(shape.min, float), o + np.asarray(shape.max, float)
+                hard |= g.segment_box_distance(a, b, lo, hi) < r
+            if not fc.jumping[j]:
+                d = g.point_segment_distance(b, fc.now[j], fc.next[j])
+                soft |= d < fc.extent[j] + fc.reach[j] + r
+        return hard, soft
+
+    def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None) -> SafeMoves:
+        """The largest fraction in :data:`SCALES` of each move p0 -> p1 that passes the exact
+        checks: static geometry and moving footprints always (a shorter piece of a safe move
+        is safe, and standing still is), the next move of moving obstacles when some
+        fraction can, then every pair of robots by the simulator's move rules
+        (:func:`swarmpath.world.move_rules.move_conflicts`): both robots of a conflicting
+        pair step down a fraction until no pair conflicts (at worst both stand, and two
+        standing robots never conflict). Every loop is bounded by the number of fractions."""
+        n = len(p0)
+        scales = np.asarray(SCALES)
+        last = len(scales) - 1
+        d = p1 - p0
+        first_ok = np.full(n, -1)              # first fraction passing every check
+        first_hard = np.full(n, last)          # first fraction passing the hard checks
+        todo = np.arange(n)
+        for lv, s in enumerate(scales):
+            if not len(todo):
+                break
+            a = p0[todo]
+            b = p1[todo] if lv == 0 else a + s * d[todo]
+            hard = self.static_unsafe(a, b, todo)
+            ob_hard, soft = self.obstacle_unsafe(a, b, todo, forecast)
+            hard |= ob_hard
+            if self.redraw is not None:
+                soft |= self.redraw.danger(b, self.radii[todo] + CHECK_SLACK)
+            newly = ~hard & (first_hard[todo] == last)
+            first_hard[todo[newly]] = lv
+            good = ~hard & ~soft
+            first_ok[todo[good]] = lv
+            todo = todo[~good]
+        level = np.where(first_ok >= 0, first_ok, first_hard)
+        exposed = first_ok < 0
+        level = self._robot_pairs(p0, d, level)
+        s = scales[level]
+        out = p0 + s[:, None] * d
+        full = level == 0
+        out[full] = p1[full]
+        return SafeMoves(out, s, exposed)
+
+    def _robot_pairs(self, p0: FloatArray, d: FloatArray, level: IntArray) -> IntArray:
+        n = len(p0)
+        if n < 2:
+            return level
+        scales = np.asarray(SCALES)
+        last = len(scales) - 1
+        reach = 2 * float(np.linalg.norm(d, axis=1).max(initial=0.0)) + 2 * float(self.radii.max(initial=0.0)) \
+            + 2 * self.resolution + 1e-6
+        pairs = cKDTree(p0).query_pairs(reach, output_type="ndarray")
+        if not len(pairs):
+            return level
+        i, j = pairs[:, 0], pairs[:, 1]
+        level = level.copy()
+        for _ in range(last * n + 1):       # every round lowers some robot's fraction
+            a1 = p0[i] + scales[level[i]][:, None] * d[i]
+            b1 = p0[j] + scales[level[j]][:, None] * d[j]
+            kind = move_conflicts(p0[i], a1, p0[j], b1, self.radii[i] + CHECK_SLACK * (self.radii[i] > 0),
+                                  self.radii[j] + CHECK_SLACK * (self.radii[j] > 0), self.resolution)
+            bad = kind != NO_CONFLICT
+            if not bad.any():
+                break
+            lower = np.zeros(n, bool)
+            lower[i[bad]] = True
+            lower[j[bad]] = True
+            lower &= level < last
+            moving = np.any(d != 0, axis=1)
+            lower &= moving
+            if not lower.any():
+                break
+            level[lower] += 1
+        return level
