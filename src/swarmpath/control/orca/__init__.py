@@ -8,5 +8,6 @@ Importing this package registers the ``orca`` controller.
 from swarmpath.control.orca.controller import ORCAController
 from swarmpath.control.orca.core import ORCAParams, ORCASolver
 from swarmpath.control.orca.guidance import Guidance, velocity_toward
+from swarmpath.control.orca.safety import SafetyLayer
 
-__all__ = ["ORCAController", "ORCAParams", "ORCASolver", "Guidance", "velocity_toward"]
+__all__ = ["ORCAController", "ORCAParams", "ORCASolver", "Guidance", "SafetyLayer", "velocity_toward"]

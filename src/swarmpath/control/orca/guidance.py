@@ -7,8 +7,9 @@
 2. else the farthest visible vertex of its offline plan (``plan.paths[i]``, a polyline in
    world units) among the next few ahead of the last one reached;
 3. else (no plan, or the plan's next vertex is out of sight: pushed off the path) the cell
-   centre that minimises "distance field of the goal + straight distance to it" among the
-   visible cells of a window around the robot: the field (:func:`swarmpath.search.
+   centre that minimises "distance field of the goal + w * straight distance to it"
+   (w = ``straight_weight`` < 1, so that the farthest of the cells along a shortest path
+   wins) among the visible cells of a window around the robot: the field (:func:`swarmpath.search.
    distance_field`, exact octile distances on the world's grid inflated for the robot's
    radius) knows the way round walls, doors and maze corridors, the straight part lets the
    robot cut across open space;
@@ -40,9 +41,11 @@ class Guidance:
     lookahead : plan vertices tested for visibility beyond the last one reached
     clearance : extra radius (world units) for the visibility tests
     batch : candidate cells tested for visibility per robot and round
+    straight_weight : weight (0, 1) of the straight distance to a window cell in its cost
     """
 
-    def __init__(self, *, window: int = 3, lookahead: int = 4, clearance: float = 0.02, batch: int = 8):
+    def __init__(self, *, window: int = 3, lookahead: int = 4, clearance: float = 0.02, batch: int = 8,
+                 straight_weight: float = 0.5):
         if window < 1 or lookahead < 1 or batch < 1:
             raise ConfigError(f"guidance: window, lookahead and batch must be >= 1, got {window}, {lookahead}, {batch}")
         if not clearance >= 0:
@@ -51,6 +54,9 @@ class Guidance:
         self.lookahead = lookahead
         self.clearance = clearance
         self.batch = batch
+        if not 0 < straight_weight < 1:
+            raise ConfigError(f"guidance: straight_weight must be in (0, 1), got {straight_weight}")
+        self.straight_weight = straight_weight
 
     # ------------------------------------------------------------------ run state
     def reset(self, world, plan=None) -> None:
@@ -166,8 +172,10 @@ class Guidance:
         if not len(cx):
             return self.goals_[i].copy()
         centre = grid.centers(np.stack([cx, cy], axis=1))
-        cost = val * grid.resolution + np.linalg.norm(centre - p, axis=1)
-        order = np.lexsort((cy, cx, cost))
+        # cost-to-go through the cell, with the straight part discounted so that among
+        # cells on a shortest path the farthest visible one wins (full weight ties them all)
+        cost = val * grid.resolution + self.straight_weight * np.linalg.norm(centre - p, axis=1)
+        order = np.lexsort((cy, cx, val, cost))
         for start in range(0, len(order), self.batch):
             pick = order[start:start + self.batch]
             seen = ~self.world_.static_hits(np.repeat(p[None], len(pick), 0), centre[pick], np.full(len(pick), r))
