@@ -282,33 +282,38 @@ class ORCASolver:
         return SafeMoves(out, s, exposed)
 
     def _robot_pairs(self, p0: FloatArray, d: FloatArray, level: IntArray) -> IntArray:
+        """Lower the fractions of robots in conflicting pairs until no pair conflicts; only
+        pairs with a robot changed in the last round are tested again."""
         n = len(p0)
         if n < 2:
             return level
         scales = np.asarray(SCALES)
         last = len(scales) - 1
         reach = 2 * float(np.linalg.norm(d, axis=1).max(initial=0.0)) + 2 * float(self.radii.max(initial=0.0)) \
-            + 2 * self.resolution + 1e-6
+            + 1e-6 + (2 * self.resolution if self.points.any() else 0.0)
         pairs = cKDTree(p0).query_pairs(reach, output_type="ndarray")
         if not len(pairs):
             return level
         i, j = pairs[:, 0], pairs[:, 1]
+        ri = self.radii[i] + CHECK_SLACK * (self.radii[i] > 0)
+        rj = self.radii[j] + CHECK_SLACK * (self.radii[j] > 0)
+        moving = np.any(d != 0, axis=1)
         level = level.copy()
+        bad = np.zeros(len(i), bool)
+        test = np.arange(len(i))
         for _ in range(last * n + 1):       # every round lowers some robot's fraction
-            a1 = p0[i] + scales[level[i]][:, None] * d[i]
-            b1 = p0[j] + scales[level[j]][:, None] * d[j]
-            kind = move_conflicts(p0[i], a1, p0[j], b1, self.radii[i] + CHECK_SLACK * (self.radii[i] > 0),
-                                  self.radii[j] + CHECK_SLACK * (self.radii[j] > 0), self.resolution)
-            bad = kind != NO_CONFLICT
+            a, b = i[test], j[test]
+            a1 = p0[a] + scales[level[a]][:, None] * d[a]
+            b1 = p0[b] + scales[level[b]][:, None] * d[b]
+            bad[test] = move_conflicts(p0[a], a1, p0[b], b1, ri[test], rj[test], self.resolution) != NO_CONFLICT
             if not bad.any():
                 break
             lower = np.zeros(n, bool)
             lower[i[bad]] = True
             lower[j[bad]] = True
-            lower &= level < last
-            moving = np.any(d != 0, axis=1)
-            lower &= moving
+            lower &= (level < last) & moving
             if not lower.any():
                 break
             level[lower] += 1
+            test = np.flatnonzero(lower[i] | lower[j])
         return level
