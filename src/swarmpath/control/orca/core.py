@@ -232,11 +232,15 @@ class ORCASolver:
         r = self.radii[rows] + CHECK_SLACK
         for j, shape in enumerate(self.shapes):
             o = fc.now[j]
+            # a robot the obstacle already reached (phase 1) may move, but not deeper in
             if isinstance(shape, Circle):
-                hard |= g.point_segment_distance(o, a, b) < shape.radius + r
+                gap = g.point_segment_distance(o, a, b) - shape.radius
+                now = np.linalg.norm(a - o, axis=1) - shape.radius
             else:
                 lo, hi = o + np.asarray(shape.min, float), o + np.asarray(shape.max, float)
-                hard |= g.segment_box_distance(a, b, lo, hi) < r
+                gap = g.segment_box_distance(a, b, lo, hi)
+                now = g.point_box_distance(a, lo, hi)
+            hard |= gap < np.minimum(r, now - CHECK_SLACK)
             if not fc.jumping[j]:
                 d = g.point_segment_distance(b, fc.now[j], fc.next[j])
                 soft |= d < fc.extent[j] + fc.reach[j] + r
@@ -274,16 +278,29 @@ class ORCASolver:
             todo = todo[~good]
         level = np.where(first_ok >= 0, first_ok, first_hard)
         exposed = first_ok < 0
-        level = self._robot_pairs(p0, d, level)
+        level = self._robot_pairs(p0, d, level, self.threatened(p0, forecast))
         s = scales[level]
         out = p0 + s[:, None] * d
         full = level == 0
         out[full] = p1[full]
         return SafeMoves(out, s, exposed)
 
-    def _robot_pairs(self, p0: FloatArray, d: FloatArray, level: IntArray) -> IntArray:
-        """Lower the fractions of robots in conflicting pairs until no pair conflicts; only
-        pairs with a robot changed in the last round are tested again."""
+    def threatened(self, pos: FloatArray, fc: ObstacleForecast | None) -> BoolArray:
+        """Robots within two steps' travel of a moving obstacle's next move (n,)."""
+        out = np.zeros(len(pos), bool)
+        if fc is None or not len(fc.now):
+            return out
+        for j in range(len(fc.now)):
+            d = g.point_segment_distance(pos, fc.now[j], fc.next[j])
+            out |= d < self.radii + fc.extent[j] + fc.reach[j] + 2 * self.step_len
+        return out
+
+    def _robot_pairs(self, p0: FloatArray, d: FloatArray, level: IntArray, threatened: BoolArray) -> IntArray:
+        """Lower the fractions of robots in conflicting pairs until no pair conflicts: in
+        each conflicting pair the robot of lower priority steps down (priority: threatened
+        by a moving obstacle first, then the smaller index), the other only when the first
+        cannot (it already stands). Only pairs with a robot changed in the last round are
+        tested again."""
         n = len(p0)
         if n < 2:
             return level
@@ -308,10 +325,16 @@ class ORCASolver:
             bad[test] = move_conflicts(p0[a], a1, p0[b], b1, ri[test], rj[test], self.resolution) != NO_CONFLICT
             if not bad.any():
                 break
+            can = (level < last) & moving
+            bi, bj = i[bad], j[bad]
+            # j has the lower priority unless i is the unthreatened one of a mixed pair
+            j_first = threatened[bi] | ~threatened[bj]
+            lose = np.where(j_first, bj, bi)
+            keep = np.where(j_first, bi, bj)
+            lose = np.where(can[lose], lose, keep)
             lower = np.zeros(n, bool)
-            lower[i[bad]] = True
-            lower[j[bad]] = True
-            lower &= (level < last) & moving
+            lower[lose] = True
+            lower &= can
             if not lower.any():
                 break
             level[lower] += 1
