@@ -260,22 +260,28 @@ class ORCASolver:
         d = p1 - p0
         first_ok = np.full(n, -1)              # first fraction passing every check
         first_hard = np.full(n, last)          # first fraction passing the hard checks
+        # the whole moves first, then every shorter fraction of the robots that failed, at once
         todo = np.arange(n)
-        for lv, s in enumerate(scales):
+        for levels in ([0], list(range(1, last + 1))):
             if not len(todo):
                 break
-            a = p0[todo]
-            b = p1[todo] if lv == 0 else a + s * d[todo]
-            hard = self.static_unsafe(a, b, todo)
-            ob_hard, soft = self.obstacle_unsafe(a, b, todo, forecast)
+            rows = np.tile(todo, len(levels))
+            lv = np.repeat(np.asarray(levels), len(todo))
+            a = p0[rows]
+            b = np.where((lv == 0)[:, None], p1[rows], a + scales[lv][:, None] * d[rows])
+            hard = self.static_unsafe(a, b, rows)
+            ob_hard, soft = self.obstacle_unsafe(a, b, rows, forecast)
             hard |= ob_hard
             if self.redraw is not None:
-                soft |= self.redraw.danger(b, self.radii[todo] + CHECK_SLACK)
-            newly = ~hard & (first_hard[todo] == last)
-            first_hard[todo[newly]] = lv
-            good = ~hard & ~soft
-            first_ok[todo[good]] = lv
-            todo = todo[~good]
+                soft |= self.redraw.danger(b, self.radii[rows] + CHECK_SLACK)
+            hard = hard.reshape(len(levels), len(todo))
+            good = ~hard & ~soft.reshape(len(levels), len(todo))
+            for k, level in enumerate(levels):
+                newly = ~hard[k] & (first_hard[todo] == last)
+                first_hard[todo[newly]] = level
+                ok = good[k] & (first_ok[todo] < 0)
+                first_ok[todo[ok]] = level
+            todo = todo[first_ok[todo] < 0]
         level = np.where(first_ok >= 0, first_ok, first_hard)
         exposed = first_ok < 0
         level = self._robot_pairs(p0, d, level, self.threatened(p0, forecast))

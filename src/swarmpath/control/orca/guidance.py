@@ -44,7 +44,7 @@ class Guidance:
     straight_weight : weight (0, 1) of the straight distance to a window cell in its cost
     """
 
-    def __init__(self, *, window: int = 3, lookahead: int = 4, clearance: float = 0.02, batch: int = 8,
+    def __init__(self, *, window: int = 3, lookahead: int = 4, clearance: float = 0.02, batch: int = 25,
                  straight_weight: float = 0.5):
         if window < 1 or lookahead < 1 or batch < 1:
             raise ConfigError(f"guidance: window, lookahead and batch must be >= 1, got {window}, {lookahead}, {batch}")
@@ -129,8 +129,8 @@ class Guidance:
         need = np.flatnonzero(~direct)
         if len(need):
             need = self._plan_targets(pos, need, target, r)
-        for i in need:
-            target[i] = self._field_target(pos[i], int(i), r[i])
+        if len(need):
+            target[need] = self._field_targets(pos, need, r)
         return target, direct
 
     def _plan_targets(self, pos: FloatArray, rows: NDArray[np.int64], target: FloatArray, r: FloatArray
@@ -153,10 +153,13 @@ class Guidance:
             target[i] = path[k]
         return np.asarray(left, np.int64)
 
-    def _field_target(self, p: FloatArray, i: int, r: float) -> FloatArray:
+    def _candidates(self, p: FloatArray, i: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Robot i's window cells with a finite field value: centres (k, 2) in the order of
+        preference, their field values (k,), and the lowest-valued neighbouring cell's
+        centre as the fallback (or the goal when there is none)."""
         f = self._field(i)
         if f is None:
-            return self.goals_[i].copy()
+            return np.zeros((0, 2)), np.zeros(0), self.goals_[i].copy()
         grid, field = f
         h, w = field.shape
         c = grid.cell_of(p)
@@ -170,23 +173,45 @@ class Guidance:
         finite = np.isfinite(val)
         cx, cy, val = cx[finite], cy[finite], val[finite]
         if not len(cx):
-            return self.goals_[i].copy()
+            return np.zeros((0, 2)), np.zeros(0), self.goals_[i].copy()
         centre = grid.centers(np.stack([cx, cy], axis=1))
         # cost-to-go through the cell, with the straight part discounted so that among
         # cells on a shortest path the farthest visible one wins (full weight ties them all)
         cost = val * grid.resolution + self.straight_weight * np.linalg.norm(centre - p, axis=1)
         order = np.lexsort((cy, cx, val, cost))
-        for start in range(0, len(order), self.batch):
-            pick = order[start:start + self.batch]
-            seen = ~self.world_.static_hits(np.repeat(p[None], len(pick), 0), centre[pick], np.full(len(pick), r))
-            if seen.any():
-                return centre[pick[int(np.argmax(seen))]]
-        # nothing visible: the lowest neighbouring cell (or the robot's own cell's centre)
         near = np.max(np.abs(np.stack([cx - c[0], cy - c[1]], axis=1)), axis=1) <= 1
-        if near.any():
-            k = np.flatnonzero(near)[np.argmin(val[near])]
-            return centre[k]
-        return centre[order[0]]
+        fallback = centre[np.flatnonzero(near)[np.argmin(val[near])]] if near.any() else centre[order[0]]
+        return centre[order], val[order], fallback
+
+    def _field_targets(self, pos: FloatArray, rows: NDArray[np.int64], r: FloatArray) -> FloatArray:
+        """Steering points of robots ``rows`` from their goals' distance fields: the best
+        visible window cell, tested ``batch`` candidates per robot and round for all robots
+        at once; the fallback cell when none is visible."""
+        cands = [self._candidates(pos[i], int(i)) for i in rows]
+        out = np.array([c[2] for c in cands], float).reshape(-1, 2)
+        pending = [k for k, c in enumerate(cands) if len(c[0])]
+        start = 0
+        while pending:
+            seg_a, seg_b, seg_r, owner = [], [], [], []
+            for k in pending:
+                pts = cands[k][0][start:start + self.batch]
+                seg_a.append(np.repeat(pos[rows[k]][None], len(pts), 0))
+                seg_b.append(pts)
+                seg_r.append(np.full(len(pts), r[rows[k]]))
+                owner.append(np.full(len(pts), k))
+            own = np.concatenate(owner)
+            seen = ~self.world_.static_hits(np.concatenate(seg_a), np.concatenate(seg_b), np.concatenate(seg_r))
+            pts = np.concatenate(seg_b)
+            still = []
+            for k in pending:
+                hit = np.flatnonzero(seen & (own == k))
+                if len(hit):
+                    out[k] = pts[hit[0]]
+                elif start + self.batch < len(cands[k][0]):
+                    still.append(k)
+            pending = still
+            start += self.batch
+        return out
 
     # ------------------------------------------------------------------ velocities
     def preferred_velocities(self, positions: FloatArray, speeds: FloatArray, dt: float) -> FloatArray:

@@ -1,5 +1,6 @@
-"""Worlds shared by the ORCA tests and benchmarks (antipodal circle, rooms with doors,
-MovingAI maps with disc robots, moving obstacles of every motion model)."""
+"""Worlds for ORCA's tests and benchmarks: the antipodal circle, rooms with doors, MovingAI
+maps with disc robots, moving obstacles of every motion model, and the CrowdNav-style crossing
+(one robot among obstacles that ignore it)."""
 from __future__ import annotations
 
 import dataclasses
@@ -11,7 +12,8 @@ from swarmpath.world import (Bounce, Circle, RandomWalk, Rect, RectBounds, Redra
                              World, world_from_movingai)
 from swarmpath.world.moving import MovingObstacle
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+#: The MovingAI maps the tests use (tests/data in a source checkout).
+DATA = Path(__file__).resolve().parents[4] / "tests" / "data"
 
 
 def antipodal(n: int, radius: float = 0.3, speed: float = 0.5, spacing: float = 1.0) -> World:
@@ -35,9 +37,11 @@ def rooms_with_doors(radius: float = 0.3) -> World:
     return World(RectBounds(20, 20), obstacles=walls, robots=robots, name="rooms")
 
 
-def movingai(name: str, n: int, radius: float = 0.4, speed: float = 1.0) -> World:
-    """A MovingAI map of tests/data with the first ``n`` agents as discs of ``radius``."""
-    world = world_from_movingai(DATA / f"{name}.map", DATA / f"{name}-even-10.scen", n)
+def movingai(name: str, n: int, radius: float = 0.4, speed: float = 1.0, data: Path | None = None) -> World:
+    """A MovingAI map (``data``/name.map with name-even-10.scen; default tests/data) with
+    the first ``n`` agents as discs of ``radius``."""
+    data = data or DATA
+    world = world_from_movingai(data / f"{name}.map", data / f"{name}-even-10.scen", n)
     return world.replace(robots=tuple(dataclasses.replace(r, radius=radius, max_speed=speed) for r in world.robots))
 
 
