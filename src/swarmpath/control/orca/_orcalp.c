@@ -203,7 +203,8 @@ static PyObject *solve(PyObject *self, PyObject *args) {
                 lp3(L, m, (Py_ssize_t)n_firm[i], fail, radius[i], &rx, &ry, proj);
                 st = 1;
             } else if (fail >= n_hard[i]) {
-                lp3(L, m, (Py_ssize_t)n_hard[i], fail, radius[i], &rx, &ry, proj);
+                /* obstacles corner the robot: balance the firm lines alone */
+                lp3(L, (Py_ssize_t)n_firm[i], (Py_ssize_t)n_hard[i], fail, radius[i], &rx, &ry, proj);
                 st = 2;
             } else {
                 rx = 0.0;

@@ -42,6 +42,8 @@ IntArray = NDArray[np.int64]
 
 #: Fractions of the chosen move tried, in order, when the exact check rejects it.
 SCALES = (1.0, 0.5, 0.25, 0.0)
+#: Directions of the ring of escape moves tried exactly when the lines leave a robot exposed.
+ESCAPE_DIRECTIONS = 32
 #: Slack of the exact checks beyond the simulator's own (world units).
 CHECK_SLACK = 1e-7
 
@@ -225,10 +227,18 @@ class ORCASolver:
         """(hard, soft) per move: hard = the swept disc enters a footprint standing at
         ``now`` (phase 2); soft = the end disc lies where an obstacle's next move may reach
         (phase 1 of the next step; redraw jumps are tested by :meth:`redraw_unsafe`)."""
+        hard, soft, _ = self._obstacle_check(a, b, rows, fc)
+        return hard, soft
+
+    def _obstacle_check(self, a: FloatArray, b: FloatArray, rows: IntArray, fc: ObstacleForecast | None
+                        ) -> tuple[BoolArray, BoolArray, FloatArray]:
+        """:meth:`obstacle_unsafe` plus the depth (world units) by which each end disc enters
+        the worst next move (<= 0: clear)."""
         hard = np.zeros(len(rows), bool)
         soft = np.zeros(len(rows), bool)
+        depth = np.full(len(rows), -np.inf)
         if fc is None or not len(fc.now):
-            return hard, soft
+            return hard, soft, depth
         r = self.radii[rows] + CHECK_SLACK
         for j, shape in enumerate(self.shapes):
             o = fc.now[j]
@@ -243,8 +253,10 @@ class ORCASolver:
             hard |= gap < np.minimum(r, now - CHECK_SLACK)
             if not fc.jumping[j]:
                 d = g.point_segment_distance(b, fc.now[j], fc.next[j])
-                soft |= d < fc.extent[j] + fc.reach[j] + r
-        return hard, soft
+                need = fc.extent[j] + fc.reach[j] + r
+                soft |= d < need
+                depth = np.maximum(depth, need - d)
+        return hard, soft, depth
 
     def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None) -> SafeMoves:
         """The largest fraction in :data:`SCALES` of each move p0 -> p1 that passes the exact
@@ -284,12 +296,62 @@ class ORCASolver:
             todo = todo[first_ok[todo] < 0]
         level = np.where(first_ok >= 0, first_ok, first_hard)
         exposed = first_ok < 0
+        if exposed.any() and forecast is not None:
+            # the linearised lines can miss an escape: try a ring of moves exactly
+            rows = np.flatnonzero(exposed)
+            ends, clear = self._escape(p0, p1, rows, forecast)
+            p1 = p1.copy()
+            p1[rows] = ends
+            d = p1 - p0
+            level[rows] = 0
+            exposed[rows] = ~clear
         level = self._robot_pairs(p0, d, level, self.threatened(p0, forecast))
         s = scales[level]
         out = p0 + s[:, None] * d
         full = level == 0
         out[full] = p1[full]
         return SafeMoves(out, s, exposed)
+
+    def _escape(self, p0: FloatArray, p1: FloatArray, rows: IntArray, fc: ObstacleForecast
+                ) -> tuple[FloatArray, BoolArray]:
+        """For robots ``rows`` that no fraction of their move keeps clear of the obstacles'
+        next moves: among ``ESCAPE_DIRECTIONS`` directions at full and half step, standing
+        still and the move itself, the end position that passes every check and lies closest
+        to the proposed one, else the one (passing the hard checks) that enters the next
+        moves least. Returns the end positions (k, 2) and which of them are clear (k,)."""
+        k = len(rows)
+        ang = 2 * np.pi * np.arange(ESCAPE_DIRECTIONS) / ESCAPE_DIRECTIONS
+        ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+        frac = np.array([1.0, 0.5])
+        offsets = (frac[:, None, None] * ring[None]).reshape(-1, 2)                     # (c, 2)
+        step = self.step_len[rows]
+        cand = p0[rows][:, None, :] + offsets[None] * step[:, None, None]               # (k, c, 2)
+        cand = np.concatenate([p1[rows][:, None, :], p0[rows][:, None, :], cand], axis=1)
+        c = cand.shape[1]
+        flat_rows = np.repeat(rows, c)
+        a = np.repeat(p0[rows], c, axis=0)
+        b = cand.reshape(-1, 2)
+        hard = self.static_unsafe(a, b, flat_rows)
+        ob_hard, soft, depth = self._obstacle_check(a, b, flat_rows, fc)
+        hard |= ob_hard
+        if self.redraw is not None:
+            jump = self.redraw.danger(b, self.radii[flat_rows] + CHECK_SLACK)
+            soft |= jump
+            depth = np.where(jump, np.maximum(depth, 0.0), depth)
+        hard = hard.reshape(k, c)
+        clear = ~hard & ~soft.reshape(k, c)
+        depth = depth.reshape(k, c)
+        dist = np.linalg.norm(cand - p1[rows][:, None, :], axis=2)
+        score = np.where(clear, dist, np.where(hard, np.inf, 1e6 + depth))
+        best = np.argmin(score, axis=1)
+        pick = np.arange(k)
+        ends = cand[pick, best]
+        ok = clear[pick, best]
+        # nothing passes even the hard checks (cannot happen: standing is hard-safe unless
+        # already overlapped): keep the original move
+        none = ~np.isfinite(score[pick, best])
+        ends[none] = p1[rows][none]
+        return ends, ok
 
     def threatened(self, pos: FloatArray, fc: ObstacleForecast | None) -> BoolArray:
         """Robots within two steps' travel of a moving obstacle's next move (n,)."""

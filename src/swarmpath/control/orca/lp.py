@@ -152,8 +152,9 @@ def solve_orca_lp(points: ArrayLike, directions: ArrayLike, n_hard: int, radius:
     satisfies them), ``n_hard..n_firm-1`` are *firm* (this step's moving-obstacle lines) and
     the rest are *soft* (robot-robot and anticipation lines). When the 2-D program fails on a
     soft line, the 3-D program keeps hard and firm lines; when it fails on a firm line (the
-    obstacles corner the robot), only the hard lines are kept and the firm ones join the
-    minimised violation. Returns (velocity (2,), status): status 0 = all lines hold, 1 = the
+    obstacles corner the robot), the 3-D program keeps the hard lines and minimises the
+    largest violation of the firm lines alone (the soft ones are dropped: escaping this
+    step's danger comes first). Returns (velocity (2,), status): status 0 = all lines hold, 1 = the
     soft lines were relaxed, 2 = the firm lines were relaxed too, 3 = the hard lines
     themselves conflict (the robot stands still; cannot happen when velocity 0 is permitted
     by every hard line).
@@ -167,7 +168,7 @@ def solve_orca_lp(points: ArrayLike, directions: ArrayLike, n_hard: int, radius:
     if fail >= n_firm:
         return solve_lp3(points, directions, n_firm, fail, radius, v), 1
     if fail >= n_hard:
-        return solve_lp3(points, directions, n_hard, fail, radius, v), 2
+        return solve_lp3(points[:n_firm], directions[:n_firm], n_hard, fail, radius, v), 2
     return np.zeros(2), 3
 
 

@@ -86,3 +86,42 @@ def with_obstacles(world: World, kind: str, count: int, seed: int, speed: float 
             ob = MovingObstacle(f"m{k}", Circle((0, 0), radius), start, vel, MOTIONS[kind]())
         obstacles.append(ob)
     return world.replace(moving_obstacles=tuple(obstacles), name=f"{world.name}-{kind}-{seed}")
+
+
+def crowd_crossing(n_obstacles: int, seed: int, motion: str = "mixed", size: float = 12.0, dt: float = 0.5,
+                   robot_speed: float = 1.0, obstacle_speed: float = 0.5, radius: float = 0.3) -> World:
+    """The CrowdNav-style episode: one robot (disc ``radius``, ``robot_speed``) crosses a
+    walled ``size`` x ``size`` room from the middle of its left side to the middle of its
+    right side among ``n_obstacles`` discs of the same radius that ignore it.
+
+    ``motion``: "bounce" (constant velocity, bouncing off the walls), "random-walk" (one of 8
+    directions each step, at most ``obstacle_speed``) or "mixed" (alternating). Obstacles
+    start at random non-overlapping places at least 1.5 away from the robot's start and goal,
+    with random headings (all drawn from ``seed``). Obstacles are slower than the robot, so
+    a single one can never catch it."""
+    rng = np.random.default_rng(seed)
+    start, goal = (1.0, size / 2), (size - 1.0, size / 2)
+    placed: list[np.ndarray] = []
+    obstacles = []
+    for k in range(n_obstacles):
+        for _ in range(1000):   # rejection sampling, bounded
+            p = rng.uniform(radius + 0.05, size - radius - 0.05, 2)
+            if min(np.linalg.norm(p - start), np.linalg.norm(p - goal)) < 1.5:
+                continue
+            if placed and np.min(np.linalg.norm(np.array(placed) - p, axis=1)) < 2 * radius + 0.2:
+                continue
+            break
+        placed.append(p)
+        kind = motion if motion != "mixed" else ("bounce" if k % 2 == 0 else "random-walk")
+        ang = rng.uniform(0, 2 * np.pi)
+        if kind == "random-walk":
+            speed = obstacle_speed / np.sqrt(2)        # diagonal steps are sqrt(2) longer
+            model = RandomWalk()
+        else:
+            speed = obstacle_speed
+            model = Bounce()
+        vel = (speed * float(np.cos(ang)), speed * float(np.sin(ang)))
+        obstacles.append(MovingObstacle(f"h{k}", Circle((0, 0), radius), (float(p[0]), float(p[1])), vel, model))
+    robot = Robot("robot", start, goal, radius, robot_speed)
+    return World(RectBounds(size, size), moving_obstacles=tuple(obstacles), robots=(robot,), dt=dt,
+                 name=f"crowd-{n_obstacles}-{motion}-{seed}")
