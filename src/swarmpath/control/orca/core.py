@@ -48,6 +48,16 @@ ESCAPE_DIRECTIONS = 32
 CHECK_SLACK = 1e-7
 
 
+def _segment_point_distance(a: FloatArray, b: FloatArray, p: FloatArray) -> FloatArray:
+    """Distance from points p to segments a-b (broadcast over leading axes, last axis 2)."""
+    ab = b - a
+    ap = p - a
+    denom = (ab * ab).sum(-1)
+    t = np.clip((ap * ab).sum(-1) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
+    q = ap - t[..., None] * ab
+    return np.sqrt((q * q).sum(-1))
+
+
 @dataclass(frozen=True)
 class ORCAParams:
     """ORCA's hyperparameters (RVO2's names in brackets).
@@ -116,7 +126,13 @@ class ORCASolver:
         self.redraw = RedrawGuard(world) if any(getattr(o.motion, "kind", "") == "redraw"
                                                 for o in world.moving_obstacles) else None
         self.has_static = bool(len(world.obstacles) or world.static_map is not None)
-        self.shapes = [o.shape for o in world.moving_obstacles]
+        shapes = [o.shape for o in world.moving_obstacles]
+        self.obstacle_is_circle = np.array([isinstance(sh, Circle) for sh in shapes], bool)
+        self.obstacle_radius = np.array([sh.radius if isinstance(sh, Circle) else 0.0 for sh in shapes], float)
+        self.obstacle_lo = np.array([(0.0, 0.0) if isinstance(sh, Circle) else sh.min for sh in shapes],
+                                    float).reshape(-1, 2)
+        self.obstacle_hi = np.array([(0.0, 0.0) if isinstance(sh, Circle) else sh.max for sh in shapes],
+                                    float).reshape(-1, 2)
 
     # ------------------------------------------------------------------ contact distances
     def combined_radius(self, i: IntArray, j: IntArray) -> FloatArray:
@@ -234,29 +250,32 @@ class ORCASolver:
                         ) -> tuple[BoolArray, BoolArray, FloatArray]:
         """:meth:`obstacle_unsafe` plus the depth (world units) by which each end disc enters
         the worst next move (<= 0: clear)."""
-        hard = np.zeros(len(rows), bool)
-        soft = np.zeros(len(rows), bool)
-        depth = np.full(len(rows), -np.inf)
-        if fc is None or not len(fc.now):
-            return hard, soft, depth
-        r = self.radii[rows] + CHECK_SLACK
-        for j, shape in enumerate(self.shapes):
-            o = fc.now[j]
-            # a robot the obstacle already reached (phase 1) may move, but not deeper in
-            if isinstance(shape, Circle):
-                gap = g.point_segment_distance(o, a, b) - shape.radius
-                now = np.linalg.norm(a - o, axis=1) - shape.radius
-            else:
-                lo, hi = o + np.asarray(shape.min, float), o + np.asarray(shape.max, float)
-                gap = g.segment_box_distance(a, b, lo, hi)
-                now = g.point_box_distance(a, lo, hi)
-            hard |= gap < np.minimum(r, now - CHECK_SLACK)
-            if not fc.jumping[j]:
-                d = g.point_segment_distance(b, fc.now[j], fc.next[j])
-                need = fc.extent[j] + fc.reach[j] + r
-                soft |= d < need
-                depth = np.maximum(depth, need - d)
-        return hard, soft, depth
+        k = len(rows)
+        if fc is None or not len(fc.now) or k == 0:
+            return np.zeros(k, bool), np.zeros(k, bool), np.full(k, -np.inf)
+        r = (self.radii[rows] + CHECK_SLACK)[:, None]                               # (k, 1)
+        A, B = a[:, None, :], b[:, None, :]
+        o = fc.now[None]                                                             # (1, m, 2)
+        # phase 2 (hard): discs as points grown by their radius, boxes exactly; a robot the
+        # obstacle already reached (phase 1) may move, but not deeper in
+        gap = np.full((k, len(fc.now)), np.inf)
+        now = np.full((k, len(fc.now)), np.inf)
+        c = self.obstacle_is_circle
+        if c.any():
+            gap[:, c] = _segment_point_distance(A, B, o[:, c]) - self.obstacle_radius[c]
+            now[:, c] = np.sqrt(((A - o[:, c]) ** 2).sum(-1)) - self.obstacle_radius[c]
+        if (~c).any():
+            lo = o[:, ~c] + self.obstacle_lo[~c]
+            hi = o[:, ~c] + self.obstacle_hi[~c]
+            gap[:, ~c] = g.segment_box_distance(A, B, lo, hi)
+            now[:, ~c] = g.point_box_distance(A, lo, hi)
+        hard = np.any(gap < np.minimum(r, now - CHECK_SLACK), axis=1)
+        # next move (soft): the end disc clear of the sweep now -> next grown by the reach
+        d = _segment_point_distance(fc.now[None], fc.next[None], b[:, None, :])     # (k, m)
+        need = fc.extent + fc.reach + r
+        over = np.where(fc.jumping[None], -np.inf, need - d)
+        depth = over.max(axis=1)
+        return hard, depth > 0, depth
 
     def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None) -> SafeMoves:
         """The largest fraction in :data:`SCALES` of each move p0 -> p1 that passes the exact
@@ -355,13 +374,11 @@ class ORCASolver:
 
     def threatened(self, pos: FloatArray, fc: ObstacleForecast | None) -> BoolArray:
         """Robots within two steps' travel of a moving obstacle's next move (n,)."""
-        out = np.zeros(len(pos), bool)
         if fc is None or not len(fc.now):
-            return out
-        for j in range(len(fc.now)):
-            d = g.point_segment_distance(pos, fc.now[j], fc.next[j])
-            out |= d < self.radii + fc.extent[j] + fc.reach[j] + 2 * self.step_len
-        return out
+            return np.zeros(len(pos), bool)
+        d = _segment_point_distance(fc.now[None], fc.next[None], pos[:, None, :])          # (n, m)
+        reach = self.radii[:, None] + fc.extent + fc.reach + 2 * self.step_len[:, None]
+        return np.any(d < reach, axis=1)
 
     def _robot_pairs(self, p0: FloatArray, d: FloatArray, level: IntArray, threatened: BoolArray) -> IntArray:
         """Lower the fractions of robots in conflicting pairs until no pair conflicts: in
