@@ -134,7 +134,10 @@ def test_lp2_optimum_matches_linprog(args):
         assert fail2 == k
         g = pref - w
         res = linprog(-g, A_ub=outer[0], b_ub=outer[1], bounds=[(None, None)] * 2)
-        slack = radius * (1 / np.cos(np.pi / 256) - 1) * np.linalg.norm(g)
+        # a point of the circumscribed polygon (within delta of the disc) that the lines
+        # also permit lies within delta + sqrt(2 R delta) of the lines-and-disc region
+        delta = radius * (1 / np.cos(np.pi / 256) - 1)
+        slack = (delta + np.sqrt(2 * radius * delta)) * np.linalg.norm(g)
         assert -res.fun - g @ w <= slack + 1e-7
 
 

@@ -50,6 +50,7 @@ class ORCAController(Controller):
     neighbour_distance : robots farther apart are ignored (world units)
     max_neighbours : at most this many nearest robots constrain a robot
     safety_margin : added to every contact distance (world units)
+    obstacle_margin : extra room asked of moving obstacles in ORCA's (soft) lines (world units)
     side_bias : turn (radians, clockwise) of the preferred velocity of a robot that was
         constrained last step (0 = off)
     yield_after : steps without progress after which a robot backs away from a stalled robot
@@ -62,10 +63,10 @@ class ORCAController(Controller):
 
     def __init__(self, *, time_horizon: float = 4.0, obstacle_time_horizon: float = 2.0,
                  neighbour_distance: float = 8.0, max_neighbours: int = 10, safety_margin: float = 0.02,
-                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40,
+                 obstacle_margin: float = 0.0, side_bias: float = 0.15, yield_after: int = 8, patience: int = 40,
                  guidance: Guidance | None = None):
         self.params = ORCAParams(time_horizon, obstacle_time_horizon, neighbour_distance, max_neighbours,
-                                 safety_margin)
+                                 safety_margin, obstacle_margin)
         if not 0 <= side_bias < np.pi / 2:
             raise ConfigError(f"side_bias must be in [0, pi/2) radians, got {side_bias}")
         if patience < 1:

@@ -44,6 +44,8 @@ IntArray = NDArray[np.int64]
 SCALES = (1.0, 0.5, 0.25, 0.0)
 #: Directions of the ring of escape moves tried exactly when the lines leave a robot exposed.
 ESCAPE_DIRECTIONS = 32
+#: Directions of the look-ahead moves that decide whether an end position is viable.
+VIABLE_DIRECTIONS = 16
 #: Slack of the exact checks beyond the simulator's own (world units).
 CHECK_SLACK = 1e-7
 
@@ -68,6 +70,8 @@ class ORCAParams:
     max_neighbours : at most this many nearest robots give lines [maxNeighbors]
     safety_margin : added to every combined radius and static clearance (world units); near
         a goal closer to a wall than this, that robot's static margin shrinks to half the gap
+    obstacle_margin : extra room asked of moving obstacles in the (soft) ORCA lines only, so
+        that a robot keeps space to escape in (world units)
     """
 
     time_horizon: float = 4.0
@@ -75,6 +79,7 @@ class ORCAParams:
     neighbour_distance: float = 8.0
     max_neighbours: int = 10
     safety_margin: float = 0.02
+    obstacle_margin: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("time_horizon", "obstacle_time_horizon", "neighbour_distance"):
@@ -84,6 +89,8 @@ class ORCAParams:
             raise ConfigError(f"max_neighbours must be >= 0, got {self.max_neighbours}")
         if not self.safety_margin >= 0:
             raise ConfigError(f"safety_margin must be >= 0, got {self.safety_margin}")
+        if not self.obstacle_margin >= 0:
+            raise ConfigError(f"obstacle_margin must be >= 0, got {self.obstacle_margin}")
 
 
 @dataclass(frozen=True)
@@ -203,7 +210,8 @@ class ORCASolver:
         i, j = np.nonzero(seen)
         if len(i):
             lp_, ld_ = orca_halfplanes_robots(fc.now[j] - pos[i], vel[i] - fc.velocity[j], vel[i],
-                                              r[i] + fc.extent[j] + fc.reach[j], self.tau, self.dt, 1.0)
+                                              r[i] + fc.extent[j] + fc.reach[j] + p.obstacle_margin, self.tau,
+                                              self.dt, 1.0)
             add(i, lp_, ld_, 2)
         del n, m
 
@@ -315,9 +323,22 @@ class ORCASolver:
             todo = todo[first_ok[todo] < 0]
         level = np.where(first_ok >= 0, first_ok, first_hard)
         exposed = first_ok < 0
-        if exposed.any() and forecast is not None:
+        if forecast is not None and len(forecast.now):
+            # robots near obstacles whose chosen end leaves no clear move for the step after
+            # next (not viable) look for a better end too
+            near = np.flatnonzero(~exposed & self.threatened(p0, forecast))
+            if len(near):
+                ends = p0[near] + scales[level[near]][:, None] * d[near]
+                stuck = near[~self._viable(ends, near, forecast)]
+                exposed_or_stuck = exposed.copy()
+                exposed_or_stuck[stuck] = True
+            else:
+                exposed_or_stuck = exposed
+        else:
+            exposed_or_stuck = exposed
+        if exposed_or_stuck.any() and forecast is not None:
             # the linearised lines can miss an escape: try a ring of moves exactly
-            rows = np.flatnonzero(exposed)
+            rows = np.flatnonzero(exposed_or_stuck)
             ends, clear = self._escape(p0, p1, rows, forecast)
             p1 = p1.copy()
             p1[rows] = ends
@@ -361,7 +382,11 @@ class ORCASolver:
         clear = ~hard & ~soft.reshape(k, c)
         depth = depth.reshape(k, c)
         dist = np.linalg.norm(cand - p1[rows][:, None, :], axis=2)
-        score = np.where(clear, dist, np.where(hard, np.inf, 1e6 + depth))
+        viable = np.zeros((k, c), bool)
+        if fc.next2 is not None and clear.any():
+            kk, cc = np.nonzero(clear)
+            viable[kk, cc] = self._viable(cand[kk, cc], rows[kk], fc)
+        score = np.where(clear, dist + np.where(viable, 0.0, 1e3), np.where(hard, np.inf, 1e6 + depth))
         best = np.argmin(score, axis=1)
         pick = np.arange(k)
         ends = cand[pick, best]
@@ -371,6 +396,25 @@ class ORCASolver:
         none = ~np.isfinite(score[pick, best])
         ends[none] = p1[rows][none]
         return ends, ok
+
+    def _viable(self, ends: FloatArray, rows: IntArray, fc: ObstacleForecast) -> BoolArray:
+        """Whether from each end position (k, 2) of robots ``rows`` some move of the step
+        after next (a ring of ``VIABLE_DIRECTIONS`` full steps, or standing) keeps the end
+        disc clear of every obstacle's move after next and stays inside the free space (its
+        end disc; a heuristic look-ahead, the exact checks are made when that step comes)."""
+        if fc.next2 is None or not len(ends):
+            return np.ones(len(ends), bool)
+        ang = 2 * np.pi * np.arange(VIABLE_DIRECTIONS) / VIABLE_DIRECTIONS
+        ring = np.concatenate([np.zeros((1, 2)), np.stack([np.cos(ang), np.sin(ang)], axis=1)])
+        moves = ends[:, None, :] + ring[None] * self.step_len[rows][:, None, None]            # (k, q, 2)
+        k, q, _ = moves.shape
+        r = self.radii[rows][:, None, None]
+        keep = ~fc.jumping
+        d = _segment_point_distance(fc.next[keep][None, None], fc.next2[keep][None, None], moves[:, :, None, :])
+        need = fc.extent[keep] + fc.reach2[keep] + r                                             # (k, 1, m')
+        clear = np.all(d >= need, axis=2) if keep.any() else np.ones((k, q), bool)
+        inside = self.world.static_clearance(moves.reshape(-1, 2), np.repeat(self.radii[rows], q)) >= 0
+        return np.any(clear & inside.reshape(k, q), axis=1)
 
     def threatened(self, pos: FloatArray, fc: ObstacleForecast | None) -> BoolArray:
         """Robots within two steps' travel of a moving obstacle's next move (n,)."""

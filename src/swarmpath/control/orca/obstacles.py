@@ -42,6 +42,8 @@ class ObstacleForecast:
     velocity : (m, 2) predicted velocity (0 for unpredictable and jumping obstacles)
     extent : (m,) radius of the disc that covers each footprint
     jumping : (m,) redraw obstacles (their next position is anywhere; see RedrawGuard)
+    next2, reach2 : (m, 2), (m,) the same for the move after next, which starts anywhere the
+        next one may end (its sweep ``next -> next2`` grown by ``reach2``)
     """
 
     now: FloatArray
@@ -50,6 +52,8 @@ class ObstacleForecast:
     velocity: FloatArray
     extent: FloatArray
     jumping: BoolArray
+    next2: FloatArray | None = None
+    reach2: FloatArray | None = None
 
 
 def _worst_case_next(ob, world, now: FloatArray, prev: FloatArray, step: int, dt: float
@@ -113,7 +117,16 @@ def forecast_obstacles(world, now: FloatArray, prev: FloatArray, step: int, dt: 
             continue
         nxt[j], reach[j] = _worst_case_next(ob, world, now[j], prev[j], step, dt)
     velocity = np.where((reach == 0)[:, None] & ~jumping[:, None], (nxt - now) / dt, 0.0)
-    return ObstacleForecast(now, nxt, reach, velocity, extent, jumping)
+    # the move after next: a predictable move continues the model from `next`; after an
+    # unpredictable one the obstacle may be anywhere in the reach disc, and then moves again
+    nxt2 = nxt.copy()
+    reach2 = 2 * reach
+    for j, ob in enumerate(world.moving_obstacles):
+        if not jumping[j] and reach[j] == 0 and np.any(nxt[j] != now[j]):
+            nxt2[j], extra = _worst_case_next(ob, world, nxt[j], now[j], step + 1, dt)
+            if extra > 0:
+                nxt2[j], reach2[j] = nxt[j], extra
+    return ObstacleForecast(now, nxt, reach, velocity, extent, jumping, nxt2, reach2)
 
 
 def footprint_offsets(world, now: FloatArray, positions: FloatArray, owner: NDArray[np.int64],
