@@ -8,6 +8,7 @@ import pytest
 
 from swarmpath.control.orca import ORCAController, ORCAParams, ORCASolver
 from swarmpath.control.orca.obstacles import forecast_obstacles
+from swarmpath.control.orca.worlds import antipodal, movingai, rooms_with_doors, with_obstacles
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS, PLANNERS
 from swarmpath.sim.collisions import ROBOT_STATIC
@@ -16,7 +17,6 @@ from swarmpath.sim.trajectory import ALL_REACHED
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import Circle, Rect, RectBounds, Robot, World
 from swarmpath.world.move_rules import NO_CONFLICT, move_conflicts
-from swarmpath.control.orca.worlds import antipodal, movingai, rooms_with_doors, with_obstacles
 
 
 def run(world, controller=None, plan=None, seed=0, max_steps=None):
@@ -35,9 +35,9 @@ def test_registered_with_its_capabilities():
     assert caps.continuous and caps.moving_obstacles and caps.multi_robot and not caps.needs_plan
 
 
-@pytest.mark.parametrize("kwargs", [dict(time_horizon=0), dict(obstacle_time_horizon=-1), dict(neighbour_distance=0),
-                                    dict(max_neighbours=-1), dict(safety_margin=-0.1), dict(side_bias=2.0),
-                                    dict(patience=0), dict(yield_after=-1)])
+@pytest.mark.parametrize("kwargs", [{"time_horizon": 0}, {"obstacle_time_horizon": -1}, {"neighbour_distance": 0},
+                                    {"max_neighbours": -1}, {"safety_margin": -0.1}, {"side_bias": 2.0},
+                                    {"patience": 0}, {"yield_after": -1}])
 def test_bad_parameters_raise_config_error(kwargs):
     with pytest.raises(ConfigError):
         ORCAController(**kwargs)

@@ -3,7 +3,6 @@ ignore it (half bounce at constant velocity, half random walk), 40 seeded episod
 (the 500-episode measurement is benchmarks/bench_crowd.py)."""
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from swarmpath.control.orca import ORCAController

@@ -11,8 +11,21 @@ from swarmpath.control.orca import lp
 from swarmpath.control.orca.halfplanes import clearance_halfplanes, orca_halfplanes_robots
 from swarmpath.control.orca.obstacles import RedrawGuard, _worst_case_next, forecast_obstacles
 from swarmpath.control.orca.static_features import StaticFeatures, raster_boundary_segments
-from swarmpath.world import (Bounce, Circle, CircleBounds, Polygon, RandomWalk, Rect, RectBounds, Redraw, Robot,
-                             StaticMap, TurnEvery, Waypoints, World)
+from swarmpath.world import (
+    Bounce,
+    Circle,
+    CircleBounds,
+    Polygon,
+    RandomWalk,
+    Rect,
+    RectBounds,
+    Redraw,
+    Robot,
+    StaticMap,
+    TurnEvery,
+    Waypoints,
+    World,
+)
 from swarmpath.world.moving import MovingObstacle
 
 

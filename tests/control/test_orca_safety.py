@@ -8,7 +8,13 @@ import pytest
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.orca import Guidance, SafetyLayer
-from swarmpath.control.orca.worlds import antipodal, crowd_crossing, movingai, rooms_with_doors, with_obstacles
+from swarmpath.control.orca.worlds import (
+    antipodal,
+    crowd_crossing,
+    movingai,
+    rooms_with_doors,
+    with_obstacles,
+)
 from swarmpath.errors import ConfigError
 from swarmpath.registry import PLANNERS
 from swarmpath.sim.collisions import ROBOT_ROBOT, ROBOT_STATIC
@@ -92,9 +98,8 @@ def test_a_safe_proposal_comes_back_unchanged_bit_for_bit():
                                               Robot("b", (1.0, 9.0), (9.0, 9.0), 0.3, 1.0)))
     layer = SafetyLayer()
     layer.reset(world)
-    from swarmpath.control.observation import Observation
+    from swarmpath.control.observation import Observation, SensingConfig
     from swarmpath.sim.sensing import sense
-    from swarmpath.control.observation import SensingConfig
 
     pos = world.starts
     obs = Observation(1, 1.0, pos, world.goals, np.zeros(2, bool), np.zeros((0, 2)), np.zeros((0, 2)),
@@ -152,6 +157,6 @@ def test_guidance_follows_a_plan_and_lands_on_the_goal():
 
 
 def test_guidance_rejects_bad_parameters():
-    for kw in (dict(window=0), dict(lookahead=0), dict(clearance=-1), dict(batch=0), dict(straight_weight=1.0)):
+    for kw in ({"window": 0}, {"lookahead": 0}, {"clearance": -1}, {"batch": 0}, {"straight_weight": 1.0}):
         with pytest.raises(ConfigError):
             Guidance(**kw)

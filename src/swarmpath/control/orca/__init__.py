@@ -10,4 +10,4 @@ from swarmpath.control.orca.core import ORCAParams, ORCASolver
 from swarmpath.control.orca.guidance import Guidance, velocity_toward
 from swarmpath.control.orca.safety import SafetyLayer
 
-__all__ = ["ORCAController", "ORCAParams", "ORCASolver", "Guidance", "SafetyLayer", "velocity_toward"]
+__all__ = ["Guidance", "ORCAController", "ORCAParams", "ORCASolver", "SafetyLayer", "velocity_toward"]

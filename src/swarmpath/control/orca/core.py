@@ -28,7 +28,11 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from swarmpath.control.orca import kernels
-from swarmpath.control.orca.halfplanes import clearance_halfplanes, halfplane_below, orca_halfplanes_robots
+from swarmpath.control.orca.halfplanes import (
+    clearance_halfplanes,
+    halfplane_below,
+    orca_halfplanes_robots,
+)
 from swarmpath.control.orca.obstacles import ObstacleForecast, RedrawGuard, footprint_offsets
 from swarmpath.control.orca.static_features import StaticFeatures, closest_on_segments
 from swarmpath.errors import ConfigError
@@ -188,8 +192,6 @@ class ORCASolver:
                                   np.zeros(0, np.int64), n)
 
     def _obstacle_lines(self, pos, vel, fc: ObstacleForecast, add) -> None:
-        n = len(pos)
-        m = len(fc.now)
         p = self.params
         r = self.radii + p.safety_margin
         dist = np.linalg.norm(pos[:, None, :] - fc.now[None], axis=-1)               # (n, m)
@@ -213,7 +215,6 @@ class ORCASolver:
                                               r[i] + fc.extent[j] + fc.reach[j] + p.obstacle_margin, self.tau,
                                               self.dt, 1.0)
             add(i, lp_, ld_, 2)
-        del n, m
 
     def neighbours(self, pos: FloatArray) -> tuple[IntArray, IntArray]:
         """(i, j) pairs: for each robot i its up to ``max_neighbours`` nearest robots j within

@@ -33,7 +33,6 @@ def raster_boundary_segments(blocked: NDArray[np.bool_], cell_size: float) -> Fl
     axis-parallel runs; shape (s, 2, 2) of (start, end) points in world units. Edges on the
     raster's outer border are left out (the workspace bounds cover them)."""
     b = np.asarray(blocked, bool)
-    h, w = b.shape
     out: list[FloatArray] = []
     # horizontal edges on the line y = k (between rows k-1 and k), k = 1..h-1
     diff_h = b[1:, :] != b[:-1, :]                       # (h-1, w)
@@ -53,7 +52,7 @@ def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int, int]]:
     padded[:, 1:-1] = mask
     d = np.diff(padded, axis=1)
     rows_s, starts = np.nonzero(d == 1)
-    rows_e, ends = np.nonzero(d == -1)
+    _, ends = np.nonzero(d == -1)          # same rows, same order as the starts
     return list(zip(rows_s.tolist(), starts.tolist(), ends.tolist()))
 
 

@@ -8,8 +8,19 @@ from pathlib import Path
 
 import numpy as np
 
-from swarmpath.world import (Bounce, Circle, RandomWalk, Rect, RectBounds, Redraw, Robot, TurnEvery, Waypoints,
-                             World, world_from_movingai)
+from swarmpath.world import (
+    Bounce,
+    Circle,
+    RandomWalk,
+    Rect,
+    RectBounds,
+    Redraw,
+    Robot,
+    TurnEvery,
+    Waypoints,
+    World,
+    world_from_movingai,
+)
 from swarmpath.world.moving import MovingObstacle
 
 #: The MovingAI maps the tests use (tests/data in a source checkout).
