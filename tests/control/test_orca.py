@@ -124,6 +124,8 @@ def test_moving_obstacles_never_push_robots_into_walls(kind, where):
         assert ROBOT_STATIC not in kinds, f"seed {seed}"
         assert "robot_robot" not in kinds, f"seed {seed}"
         assert not [e for e in traj.events if e["kind"] == "invalid_move"]
+        # the independent re-check agrees: nothing but obstacles reaching robots
+        assert all("robot_moving" in v.problem for v in validate_trajectory(world, traj))
         # phase 2 is entirely the robot's choice: it never walks into a footprint
         assert not [c for c in traj.contacts if c.detail == "robot moved into obstacle"
                     and c.robot not in _hit_in_phase1(world, traj, c.step)]
