@@ -21,7 +21,7 @@ from scipy.spatial import cKDTree
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.observation import Observation
-from swarmpath.control.orca.core import ORCAParams, ORCASolver
+from swarmpath.control.orca.core import ORCAParams, ORCASolver, tidy_moves
 from swarmpath.control.orca.guidance import Guidance
 from swarmpath.control.orca.obstacles import forecast_obstacles
 from swarmpath.errors import ConfigError
@@ -111,16 +111,7 @@ class ORCAController(Controller):
         if len(world.moving_obstacles):
             forecast = forecast_obstacles(world, obs.obstacle_positions, obs.obstacle_previous, obs.step, dt)
         v, status = solver.velocities(pos, vel, pref, forecast)
-        p1 = pos + v * dt
-        # exact arrivals, no dust-sized moves, never beyond the speed limit
-        near_goal = np.linalg.norm(p1 - obs.goals, axis=1) <= GOAL_SNAP
-        p1[near_goal] = obs.goals[near_goal]
-        step = np.linalg.norm(p1 - pos, axis=1)
-        p1[step < 1e-12] = pos[step < 1e-12]
-        too_far = step > solver.step_len
-        if too_far.any():
-            p1[too_far] = pos[too_far] + (p1[too_far] - pos[too_far]) * (solver.step_len[too_far] /
-                                                                           step[too_far])[:, None]
+        p1 = tidy_moves(pos, pos + v * dt, obs.goals, solver.step_len, GOAL_SNAP)
         safe = solver.make_safe(pos, p1, forecast)
         final = safe.positions
         speeds = np.maximum(solver.speeds, 1e-12)
@@ -163,7 +154,6 @@ class ORCAController(Controller):
         yielding = norm > 1e-9
         out = pref.copy()
         out[yielding] = push[yielding] / norm[yielding, None] * solver.speeds[yielding, None]
-        self.yielding_ = yielding
         return out
 
     def _progress(self, step: int, pos: np.ndarray) -> list[dict]:

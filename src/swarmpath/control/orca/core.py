@@ -54,6 +54,23 @@ VIABLE_DIRECTIONS = 16
 CHECK_SLACK = 1e-7
 
 
+def tidy_moves(pos: FloatArray, p1: FloatArray, goals: FloatArray, step_len: FloatArray,
+               snap: float = 1e-6) -> FloatArray:
+    """End positions (n, 2) of moves pos -> p1 made exact: an end within ``snap`` of the goal
+    is the goal (the simulator's arrival test is exact), a move shorter than 1e-12 is no move,
+    and no move exceeds ``step_len`` (n,) (rounding of v * dt)."""
+    p1 = p1.copy()
+    near_goal = np.linalg.norm(p1 - goals, axis=1) <= snap
+    p1[near_goal] = goals[near_goal]
+    step = np.linalg.norm(p1 - pos, axis=1)
+    dust = step < 1e-12
+    p1[dust] = pos[dust]
+    too_far = step > step_len
+    if too_far.any():
+        p1[too_far] = pos[too_far] + (p1[too_far] - pos[too_far]) * (step_len[too_far] / step[too_far])[:, None]
+    return p1
+
+
 def _segment_point_distance(a: FloatArray, b: FloatArray, p: FloatArray) -> FloatArray:
     """Distance from points p to segments a-b (broadcast over leading axes, last axis 2)."""
     ab = b - a

@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.control.observation import Observation
-from swarmpath.control.orca.core import ORCAParams, ORCASolver
+from swarmpath.control.orca.core import ORCAParams, ORCASolver, tidy_moves
 from swarmpath.control.orca.obstacles import forecast_obstacles
 from swarmpath.errors import ConfigError
 
@@ -91,15 +91,8 @@ class SafetyLayer:
         # the proposal itself when ORCA kept it (up to rounding), exact goals, no dust moves
         kept = np.linalg.norm(p1 - wanted, axis=1) <= 1e-9 * np.maximum(1.0, np.abs(wanted).max(axis=1))
         kept &= ~over
+        p1 = tidy_moves(pos, p1, obs.goals, solver.step_len)
         p1[kept] = wanted[kept]
-        near_goal = np.linalg.norm(p1 - obs.goals, axis=1) <= 1e-6
-        p1[near_goal] = obs.goals[near_goal]
-        step = np.linalg.norm(p1 - pos, axis=1)
-        p1[step < 1e-12] = pos[step < 1e-12]
-        too_far = step > solver.step_len
-        if too_far.any():
-            p1[too_far] = pos[too_far] + (p1[too_far] - pos[too_far]) * (solver.step_len[too_far] /
-                                                                           step[too_far])[:, None]
         safe = solver.make_safe(pos, p1, forecast)
         self.previous_ = pos.copy()
         self.status_, self.scale_, self.exposed_ = status, safe.scale, safe.exposed
