@@ -132,20 +132,31 @@ class ORCAController(Controller):
         """Deadlock breaking by priority: among robots stalled for ``yield_after`` steps,
         one within reach of a stalled robot of smaller index backs away from it at full
         speed (until that robot makes progress again), so the robot of highest priority in
-        every jam gets room; the order is fixed, so two robots never undo each other."""
+        every jam gets room; the order is fixed, so two robots never undo each other. A robot
+        that has reached its goal ranks below every stalled robot: parked in a door or a
+        corridor, it backs away from a stalled robot near it, and returns afterwards."""
         if self.yield_after == 0:
             return pref
-        stalled = np.flatnonzero((self.since_ >= self.yield_after) & (self.best_ > 1e-9))
-        if len(stalled) < 2:
+        stalled = (self.since_ >= self.yield_after) & (self.best_ > 1e-9)
+        if not stalled.any():
+            return pref
+        parked = self.best_ <= 1e-9
+        group = np.flatnonzero(stalled | parked)
+        if len(group) < 2:
             return pref
         solver = self.solver_
         reach = 2 * float(solver.radii.max()) + 2 * float(solver.step_len.max()) + solver.params.safety_margin \
             + (np.sqrt(2.0) * solver.resolution if solver.points.any() else 0.0)
-        pairs = cKDTree(pos[stalled]).query_pairs(reach, output_type="ndarray")
+        pairs = cKDTree(pos[group]).query_pairs(reach, output_type="ndarray")
         if not len(pairs):
             return pref
-        a, b = stalled[pairs[:, 0]], stalled[pairs[:, 1]]
-        hi, lo = np.minimum(a, b), np.maximum(a, b)          # lo (larger index) yields to hi
+        a, b = group[pairs[:, 0]], group[pairs[:, 1]]
+        keep = stalled[a] | stalled[b]                        # two parked robots leave each other be
+        a, b = a[keep], b[keep]
+        # the parked one yields to the stalled one; of two stalled, the larger index yields
+        b_yields = parked[b] | (stalled[a] & stalled[b])
+        lo = np.where(b_yields, b, a)
+        hi = np.where(b_yields, a, b)
         away = pos[lo] - pos[hi]
         away /= np.maximum(np.linalg.norm(away, axis=1), 1e-12)[:, None]
         push = np.zeros_like(pref)
@@ -163,7 +174,7 @@ class ORCAController(Controller):
         remaining = self.guidance.remaining(pos)
         better = remaining < self.best_ - 0.1 * self.solver_.step_len
         arrived = remaining <= 1e-9
-        self.best_ = np.where(better, remaining, self.best_)
+        self.best_ = np.where(better | arrived, remaining, self.best_)
         self.since_ = np.where(better | arrived, 0, self.since_ + 1)
         events = []
         for i in np.flatnonzero((self.since_ >= self.patience) & ~self.reported_):
