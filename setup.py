@@ -1,5 +1,6 @@
 """Build the C extensions: swarmpath.search (grid A*, distance fields, lazy distance tables),
-swarmpath.control.pibt (one PIBT step) and swarmpath.optim (one particle-swarm move); all other metadata lives in pyproject.toml."""
+swarmpath.control.pibt (one PIBT step), swarmpath.control.orca (ORCA's linear programs) and
+swarmpath.optim (one particle-swarm move); all other metadata lives in pyproject.toml."""
 from setuptools import Extension, setup
 
 setup(
@@ -23,6 +24,12 @@ setup(
             "swarmpath.optim._swarmstep",
             ["src/swarmpath/optim/_swarmstep.c"],
             # no fused multiply-add: the loop must round exactly as the numpy reference kernels
+            extra_compile_args=["-O3", "-ffp-contract=off"],
+        ),
+        Extension(
+            "swarmpath.control.orca._orcalp",
+            ["src/swarmpath/control/orca/_orcalp.c"],
+            # no fused multiply-add: the loop must round exactly as the Python reference (lp.py)
             extra_compile_args=["-O3", "-ffp-contract=off"],
         ),
     ]

@@ -1,0 +1,138 @@
+"""Worlds for ORCA's tests and benchmarks: the antipodal circle, rooms with doors, MovingAI
+maps with disc robots, moving obstacles of every motion model, and the CrowdNav-style crossing
+(one robot among obstacles that ignore it)."""
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from swarmpath.world import (
+    Bounce,
+    Circle,
+    RandomWalk,
+    Rect,
+    RectBounds,
+    Redraw,
+    Robot,
+    TurnEvery,
+    Waypoints,
+    World,
+    world_from_movingai,
+)
+from swarmpath.world.moving import MovingObstacle
+
+#: The MovingAI maps the tests use (tests/data in a source checkout).
+DATA = Path(__file__).resolve().parents[4] / "tests" / "data"
+
+
+def antipodal(n: int, radius: float = 0.3, speed: float = 0.5, spacing: float = 1.0) -> World:
+    """n robots on a circle (arc spacing ``spacing``, circle radius at least 5), each to the
+    diametrically opposite point."""
+    big = max(5.0, n * spacing / (2 * np.pi))
+    c = big + 2.0
+    a = 2 * np.pi * np.arange(n) / n
+    st = np.stack([c + big * np.cos(a), c + big * np.sin(a)], axis=1)
+    robots = tuple(Robot(f"r{i}", tuple(st[i]), tuple(2 * c - st[i]), radius, speed) for i in range(n))
+    return World(RectBounds(2 * c, 2 * c), robots=robots, name=f"antipodal-{n}")
+
+
+def rooms_with_doors(radius: float = 0.3) -> World:
+    """Four rooms (20 x 20, walls 1 thick with 1.6-wide doors) and six robots that cross them."""
+    walls = (Rect((9.5, 0), (10.5, 4)), Rect((9.5, 5.6), (10.5, 14)), Rect((9.5, 15.6), (10.5, 20)),
+             Rect((0, 9.5), (3, 10.5)), Rect((4.6, 9.5), (15, 10.5)), Rect((16.6, 9.5), (20, 10.5)))
+    pairs = [((2, 2), (18, 18)), ((18, 2), (2, 18)), ((2, 18), (18, 3)), ((18, 18), (3, 2)),
+             ((6, 6), (14, 15)), ((14, 6), (6, 15))]
+    robots = tuple(Robot(f"r{k}", s, g, radius, 1.0) for k, (s, g) in enumerate(pairs))
+    return World(RectBounds(20, 20), obstacles=walls, robots=robots, name="rooms")
+
+
+def movingai(name: str, n: int, radius: float = 0.4, speed: float = 1.0, data: Path | None = None) -> World:
+    """A MovingAI map (``data``/name.map with name-even-10.scen; default tests/data) with
+    the first ``n`` agents as discs of ``radius``."""
+    data = data or DATA
+    world = world_from_movingai(data / f"{name}.map", data / f"{name}-even-10.scen", n)
+    return world.replace(robots=tuple(dataclasses.replace(r, radius=radius, max_speed=speed) for r in world.robots))
+
+
+MOTIONS = {
+    "redraw": lambda: Redraw(),
+    "turn-every": lambda: TurnEvery(period=5),
+    "random-walk": lambda: RandomWalk(),
+    "waypoints": None,
+    "bounce": lambda: Bounce(),
+}
+
+
+def with_obstacles(world: World, kind: str, count: int, seed: int, speed: float = 0.5, radius: float = 0.35
+                   ) -> World:
+    """``world`` plus ``count`` disc obstacles of motion ``kind`` on free cells away from the
+    robots' starts and goals (chosen by ``seed``)."""
+    rng = np.random.default_rng(seed)
+    grid = world.grid(radius=radius)
+    free = np.argwhere(~grid.blocked)[:, ::-1]
+    centres = grid.centers(free)
+    keep = np.ones(len(centres), bool)
+    for p in np.concatenate([world.starts, world.goals]):
+        keep &= np.linalg.norm(centres - p, axis=1) > 2.5
+    centres = centres[keep]
+    pick = rng.choice(len(centres), size=count, replace=False)
+    obstacles = []
+    for k, j in enumerate(pick):
+        start = tuple(float(v) for v in centres[j])
+        ang = rng.uniform(0, 2 * np.pi)
+        vel = (speed * float(np.cos(ang)), speed * float(np.sin(ang)))
+        if kind == "waypoints":
+            # a back-and-forth route along a free straight line through the start
+            for d in ((1, 0), (0, 1), (-1, 0), (0, -1)):
+                end = centres[j] + 3 * np.array(d, float)
+                ob = MovingObstacle(f"m{k}", Circle((0, 0), radius), start, vel, Waypoints(((end[0], end[1]), start)))
+                pts = centres[j] + np.linspace(0, 3, 13)[:, None] * np.array(d, float)
+                if world.obstacle_fits(ob, pts).all():
+                    break
+            else:
+                ob = MovingObstacle(f"m{k}", Circle((0, 0), radius), start, (0.0, 0.0), Bounce())
+        else:
+            ob = MovingObstacle(f"m{k}", Circle((0, 0), radius), start, vel, MOTIONS[kind]())
+        obstacles.append(ob)
+    return world.replace(moving_obstacles=tuple(obstacles), name=f"{world.name}-{kind}-{seed}")
+
+
+def crowd_crossing(n_obstacles: int, seed: int, motion: str = "mixed", size: float = 12.0, dt: float = 0.5,
+                   robot_speed: float = 1.0, obstacle_speed: float = 0.5, radius: float = 0.3) -> World:
+    """The CrowdNav-style episode: one robot (disc ``radius``, ``robot_speed``) crosses a
+    walled ``size`` x ``size`` room from the middle of its left side to the middle of its
+    right side among ``n_obstacles`` discs of the same radius that ignore it.
+
+    ``motion``: "bounce" (constant velocity, bouncing off the walls), "random-walk" (one of 8
+    directions each step, at most ``obstacle_speed``) or "mixed" (alternating). Obstacles
+    start at random non-overlapping places at least 1.5 away from the robot's start and goal,
+    with random headings (all drawn from ``seed``). Obstacles are slower than the robot, so
+    a single one can never catch it."""
+    rng = np.random.default_rng(seed)
+    start, goal = (1.0, size / 2), (size - 1.0, size / 2)
+    placed: list[np.ndarray] = []
+    obstacles = []
+    for k in range(n_obstacles):
+        for _ in range(1000):   # rejection sampling, bounded
+            p = rng.uniform(radius + 0.05, size - radius - 0.05, 2)
+            if min(np.linalg.norm(p - start), np.linalg.norm(p - goal)) < 1.5:
+                continue
+            if placed and np.min(np.linalg.norm(np.array(placed) - p, axis=1)) < 2 * radius + 0.2:
+                continue
+            break
+        placed.append(p)
+        kind = motion if motion != "mixed" else ("bounce" if k % 2 == 0 else "random-walk")
+        ang = rng.uniform(0, 2 * np.pi)
+        if kind == "random-walk":
+            speed = obstacle_speed / np.sqrt(2)        # diagonal steps are sqrt(2) longer
+            model = RandomWalk()
+        else:
+            speed = obstacle_speed
+            model = Bounce()
+        vel = (speed * float(np.cos(ang)), speed * float(np.sin(ang)))
+        obstacles.append(MovingObstacle(f"h{k}", Circle((0, 0), radius), (float(p[0]), float(p[1])), vel, model))
+    robot = Robot("robot", start, goal, radius, robot_speed)
+    return World(RectBounds(size, size), moving_obstacles=tuple(obstacles), robots=(robot,), dt=dt,
+                 name=f"crowd-{n_obstacles}-{motion}-{seed}")
