@@ -3,7 +3,7 @@ goal over many seeded episodes.
 
 Run on demand (not a test):  nice python benchmarks/bench_crowd.py [--episodes 500]
 
-Episode (swarmpath.control.orca.worlds.crowd_crossing): a walled 12 x 12 room, dt 0.5; one
+Episode (swarmpath.world.generators.crowd_crossing): a walled 12 x 12 room, dt 0.5; one
 robot (radius 0.3, max speed 1) crosses from (1, 6) to (11, 6) among 5, 10 or 20 discs of
 radius 0.3 that ignore it: "bounce" (constant velocity 0.5, bouncing off the walls),
 "random-walk" (a new one of 8 directions every step, at most 0.5) or "mixed" (half each).
@@ -26,8 +26,8 @@ import time
 import numpy as np
 
 from swarmpath.control.orca import ORCAController
-from swarmpath.control.orca.worlds import crowd_crossing
 from swarmpath.sim import Simulator
+from swarmpath.world.generators import crowd_crossing
 
 
 def measure(n_obstacles: int, motion: str, episodes: int, max_steps: int = 200) -> dict:

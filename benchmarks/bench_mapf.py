@@ -3,8 +3,8 @@
 Run on demand (not a test):  nice python benchmarks/bench_mapf.py [--agents 100 200 300 400]
 Peer install: pip install pymapf (the ``[bench]`` extra).
 
-Instances: random-32-32-10 (tests/data/random-32-32-10-random-1.scen, 461 rows) and
-room-32-32-4 (tests/data/room-32-32-4-even-10.scen has 130 rows; beyond that, distinct random
+Instances: random-32-32-10 (src/swarmpath/data/movingai/random-32-32-10-random-1.scen, 461 rows) and
+room-32-32-4 (src/swarmpath/data/movingai/room-32-32-4-even-10.scen has 130 rows; beyond that, distinct random
 starts and goals in the map's free component, seed 0, flagged "rand"). Both solvers get the
 same start/goal cells. pymapf's grid is 4-connected with unit costs when
 ``allow_diagonals=False`` (cells are (row, column)); its sum of costs counts, per agent, the
@@ -20,7 +20,7 @@ time is the PIBT time; the simulator's checking and recording come on top and ar
 Targets: success wherever pymapf succeeds, SOC within 1.1x of pymapf's LaCAM, wall time at
 most 1/10 of it.
 
-``--sweep`` instead runs the acceptance sweep on every MovingAI scen in tests/data: agent
+``--sweep`` instead runs the acceptance sweep on every MovingAI scen in src/swarmpath/data/movingai: agent
 counts from 25 to 400 (or the file's maximum) in steps of 25, ``lacam`` (8-connected, 10 s)
 and the ``pibt`` controller through the simulator (success = every robot at its goal with
 zero contacts), for ``--seeds`` seeds.
@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import argparse
 import time
-from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
@@ -38,6 +37,7 @@ from scipy.sparse.csgraph import shortest_path
 
 from swarmpath.control.pibt import PIBTController
 from swarmpath.control.pibt.core import static_moves
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.planning.lacam import LaCAMPlanner
 from swarmpath.sim.simulator import Simulator
 from swarmpath.world import RectBounds, Robot, World
@@ -45,7 +45,7 @@ from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.movingai import read_map, read_scen
 from swarmpath.world.static_map import StaticMap
 
-DATA = Path(__file__).resolve().parents[1] / "tests" / "data"
+DATA = MOVINGAI
 INSTANCES = [("random-32-32-10", "random-32-32-10-random-1"), ("room-32-32-4", "room-32-32-4-even-10")]
 
 

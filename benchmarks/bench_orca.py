@@ -29,9 +29,9 @@ import time
 import numpy as np
 
 from swarmpath.control.orca import ORCAController
-from swarmpath.control.orca.worlds import antipodal
 from swarmpath.sim import Simulator
 from swarmpath.sim.collisions import step_contacts
+from swarmpath.world.generators import antipodal
 
 
 def default_steps(world) -> int:

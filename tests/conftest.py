@@ -5,7 +5,9 @@ from pathlib import Path
 
 import pytest
 
-DATA = Path(__file__).parent / "data"
+from swarmpath.data.movingai import MOVINGAI
+
+DATA = MOVINGAI
 
 
 @pytest.fixture

@@ -37,8 +37,9 @@ def test_motion_conforms(name: str) -> None:
 
 
 def test_the_stable_names_are_registered() -> None:
-    assert {"astar", "apf", "hybrid-apf", "amopso-path", "none"} <= set(PLANNERS.names())
-    assert {"follow", "cat-swarm", "pso-predictive", "pso-reactive", "fish-swarm"} <= set(CONTROLLERS.names())
+    assert {"astar", "apf", "hybrid-apf", "amopso-path", "lacam", "none"} <= set(PLANNERS.names())
+    assert {"follow", "cat-swarm", "pso-predictive", "pso-reactive", "fish-swarm", "amopso-follow", "pibt",
+            "orca"} <= set(CONTROLLERS.names())
     assert {"pso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso", "cso", "afsa"} <= set(OPTIMIZERS.names())
     assert {"jaleel2016", "prediction2013", "karim2014", "amopso-benchmarks", "amopso-paths"} <= set(REPRODUCTIONS.names())
     assert {"bounce", "bounce8", "turn-every", "random-walk", "redraw", "waypoints"} <= set(MOTIONS.names())

@@ -9,7 +9,9 @@ from pathlib import Path
 
 import pytest
 
-DATA = Path(__file__).parents[1] / "data"
+from swarmpath.data.movingai import MOVINGAI
+
+DATA = MOVINGAI
 
 
 def swarmpath(*args: str) -> subprocess.CompletedProcess:

@@ -3,7 +3,6 @@ controller's safety and bookkeeping, and the acceptance statistics of issue 7.""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,15 +20,23 @@ from swarmpath.control.fish_swarm import (
     swarm_choice,
     visible_fish,
 )
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS
 from swarmpath.sim.simulator import Simulator
 from swarmpath.sim.trajectory import ALL_REACHED
 from swarmpath.testing import check_controller, validate_trajectory
-from swarmpath.world import Rect, RectBounds, Robot, World, load_scenario, world_from_movingai
+from swarmpath.world import (
+    Rect,
+    RectBounds,
+    Robot,
+    World,
+    load_scenario,
+    world_from_movingai,
+)
 from swarmpath.world.moving import Bounce, MovingObstacle, RandomWalk
 
-DATA = Path(__file__).parents[1] / "data"
+DATA = MOVINGAI
 BEHAVIOURS = {"prey", "follow", "swarm", "wait"}
 GOAL = (9.5, 9.5)
 

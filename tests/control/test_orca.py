@@ -8,7 +8,6 @@ import pytest
 
 from swarmpath.control.orca import ORCAController, ORCAParams, ORCASolver
 from swarmpath.control.orca.obstacles import forecast_obstacles
-from swarmpath.control.orca.worlds import antipodal, movingai, rooms_with_doors, with_obstacles
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS, PLANNERS
 from swarmpath.sim.collisions import ROBOT_STATIC
@@ -16,6 +15,12 @@ from swarmpath.sim.simulator import Simulator
 from swarmpath.sim.trajectory import ALL_REACHED
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import Circle, Rect, RectBounds, Robot, World
+from swarmpath.world.generators import (
+    antipodal,
+    movingai,
+    rooms_with_doors,
+    with_obstacles,
+)
 from swarmpath.world.move_rules import NO_CONFLICT, move_conflicts
 
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 import pytest
 
 from swarmpath.control.orca import ORCAController
-from swarmpath.control.orca.worlds import crowd_crossing
 from swarmpath.sim.collisions import ROBOT_MOVING
 from swarmpath.sim.simulator import Simulator
 from swarmpath.sim.trajectory import ALL_REACHED
+from swarmpath.world.generators import crowd_crossing
 
 EPISODES = 40
 

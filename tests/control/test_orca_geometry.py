@@ -8,9 +8,19 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swarmpath.control.orca import lp
-from swarmpath.control.orca.halfplanes import clearance_halfplanes, orca_halfplanes_robots
-from swarmpath.control.orca.obstacles import RedrawGuard, _worst_case_next, forecast_obstacles
-from swarmpath.control.orca.static_features import StaticFeatures, raster_boundary_segments
+from swarmpath.control.orca.halfplanes import (
+    clearance_halfplanes,
+    orca_halfplanes_robots,
+)
+from swarmpath.control.orca.obstacles import (
+    RedrawGuard,
+    _worst_case_next,
+    forecast_obstacles,
+)
+from swarmpath.control.orca.static_features import (
+    StaticFeatures,
+    raster_boundary_segments,
+)
 from swarmpath.world import (
     Bounce,
     Circle,

@@ -8,19 +8,19 @@ import pytest
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.orca import Guidance, SafetyLayer
-from swarmpath.control.orca.worlds import (
-    antipodal,
-    crowd_crossing,
-    movingai,
-    rooms_with_doors,
-    with_obstacles,
-)
 from swarmpath.errors import ConfigError
 from swarmpath.registry import PLANNERS
 from swarmpath.sim.collisions import ROBOT_ROBOT, ROBOT_STATIC
 from swarmpath.sim.simulator import Simulator
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import Rect, RectBounds, Robot, World
+from swarmpath.world.generators import (
+    antipodal,
+    crowd_crossing,
+    movingai,
+    rooms_with_doors,
+    with_obstacles,
+)
 
 
 class StraightToGoal(Controller):

@@ -3,24 +3,38 @@ priority inheritance and reachability, determinism, MovingAI instances, moving o
 narrow passages."""
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from swarmpath.control.pibt import PIBTController
-from swarmpath.control.pibt.core import (PUSHED, STAY, GridGraph, decision_order, pibt_step, static_moves,
-                                         update_priorities)
+from swarmpath.control.pibt.core import (
+    PUSHED,
+    STAY,
+    GridGraph,
+    decision_order,
+    pibt_step,
+    static_moves,
+    update_priorities,
+)
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.errors import ConfigError
 from swarmpath.search.lazy_distance import LazyDistanceTables
 from swarmpath.sim.simulator import Simulator
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import Circle, Rect, RectBounds, Robot, World, world_from_movingai
 from swarmpath.world.move_rules import GRID_MOVES, grid_conflict_table, move_conflicts
-from swarmpath.world.moving import Bounce, Bounce8, MovingObstacle, RandomWalk, Redraw, TurnEvery, Waypoints
+from swarmpath.world.moving import (
+    Bounce,
+    Bounce8,
+    MovingObstacle,
+    RandomWalk,
+    Redraw,
+    TurnEvery,
+    Waypoints,
+)
 from swarmpath.world.static_map import StaticMap
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = MOVINGAI
 S2 = float(np.sqrt(2))
 
 

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from swarmpath.control import pso_predictive as pp
-from swarmpath.world.static_geometry import StaticGeometry, static_geometry
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS
 from swarmpath.runner import choose_pair
@@ -18,6 +17,7 @@ from swarmpath.testing import check_controller, validate_trajectory
 from swarmpath.testing.conformance import conformance_worlds
 from swarmpath.world import Circle, Rect, RectBounds, Robot, World, load_scenario
 from swarmpath.world.moving import Bounce, MovingObstacle
+from swarmpath.world.static_geometry import StaticGeometry, static_geometry
 
 
 # ------------------------------------------------------------------------------ kernels by hand

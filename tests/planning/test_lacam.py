@@ -2,11 +2,10 @@
 (validate_timed_plan) and executed by the follow controller through the simulator."""
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan, PlanStatus, RobotPlan
 from swarmpath.planning.lacam import LaCAMPlanner
@@ -18,7 +17,7 @@ from swarmpath.testing.timed_plans import validate_timed_plan
 from swarmpath.world import Circle, RectBounds, Robot, World, world_from_movingai
 from swarmpath.world.static_map import StaticMap
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = MOVINGAI
 S2 = float(np.sqrt(2))
 
 

@@ -2,20 +2,19 @@
 per goal and freed on release."""
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swarmpath.control.pibt.core import static_moves
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.errors import ConfigError
 from swarmpath.search import astar, distance_field
 from swarmpath.search.lazy_distance import LazyDistanceTables
 from swarmpath.world.movingai import read_map
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = MOVINGAI
 MAPS = ["random-32-32-10", "room-32-32-4", "maze-32-32-2", "den312d", "empty-8-8"]
 
 

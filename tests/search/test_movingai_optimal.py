@@ -12,10 +12,11 @@ import pytest
 from click.testing import CliRunner
 
 from swarmpath.cli import cli
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.search import astar, distance_field
 from swarmpath.world import read_map, read_scen
 
-DATA = Path(__file__).parents[1] / "data"
+DATA = MOVINGAI
 SCENS = sorted(DATA.glob("*.scen"))
 
 

@@ -4,15 +4,15 @@ benchmark; plus determinism. Numbers are printed (run with -s to see them)."""
 from __future__ import annotations
 
 import hashlib
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from swarmpath.control.cat_swarm import CatSwarmController
+from swarmpath.data.movingai import MOVINGAI
 from swarmpath.registry import PLANNERS
-from swarmpath.search import astar, distance_field
 from swarmpath.runner import run_world
+from swarmpath.search import astar, distance_field
 from swarmpath.sim import Simulator
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import (
@@ -28,7 +28,7 @@ from swarmpath.world import (
 )
 from swarmpath.world.moving import MovingObstacle
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = MOVINGAI
 S2 = float(np.sqrt(2))
 PLANNERS_FOR_JALEEL = [p for p in ("hybrid-apf", "astar") if p in PLANNERS]
 

@@ -1,6 +1,6 @@
-"""Worlds for ORCA's tests and benchmarks: the antipodal circle, rooms with doors, MovingAI
-maps with disc robots, moving obstacles of every motion model, and the CrowdNav-style crossing
-(one robot among obstacles that ignore it)."""
+"""World generators for tests, benchmarks and sweeps: the antipodal circle, rooms with doors,
+MovingAI maps with disc robots, moving obstacles of every motion model added to a world, and
+the CrowdNav-style crossing (one robot among obstacles that ignore it)."""
 from __future__ import annotations
 
 import dataclasses
@@ -23,8 +23,6 @@ from swarmpath.world import (
 )
 from swarmpath.world.moving import MovingObstacle
 
-#: The MovingAI maps the tests use (tests/data in a source checkout).
-DATA = Path(__file__).resolve().parents[4] / "tests" / "data"
 
 
 def antipodal(n: int, radius: float = 0.3, speed: float = 0.5, spacing: float = 1.0) -> World:
@@ -49,10 +47,12 @@ def rooms_with_doors(radius: float = 0.3) -> World:
 
 
 def movingai(name: str, n: int, radius: float = 0.4, speed: float = 1.0, data: Path | None = None) -> World:
-    """A MovingAI map (``data``/name.map with name-even-10.scen; default tests/data) with
+    """A MovingAI map (``data``/name.map with name-even-10.scen; default: the built-in files) with
     the first ``n`` agents as discs of ``radius``."""
-    data = data or DATA
-    world = world_from_movingai(data / f"{name}.map", data / f"{name}-even-10.scen", n)
+    if data is None:
+        world = world_from_movingai(f"{name}.map", f"{name}-even-10.scen", n)
+    else:
+        world = world_from_movingai(data / f"{name}.map", data / f"{name}-even-10.scen", n)
     return world.replace(robots=tuple(dataclasses.replace(r, radius=radius, max_speed=speed) for r in world.robots))
 
 
