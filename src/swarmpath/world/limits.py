@@ -126,10 +126,16 @@ def _refuse_constant(name: str) -> float:
     raise DocumentError(f"{name} is not a number JSON allows")
 
 
-def parse_yaml_bounded(text: str) -> Any:
-    """Parse YAML safely: duplicate keys refused, and the composed document checked for its
-    expanded size (aliases count as what they expand to) and depth before anything is
-    built, so an alias bomb costs nothing."""
+_YAML_LOADER: Any = None
+#: YAML 1.2 floats: also ``1e6`` and ``2E-3``, which PyYAML's YAML 1.1 rules read as strings.
+_FLOAT_1_2 = re.compile(r"^[-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?$|^[-+]?\.(inf|Inf|INF)$|^\.(nan|NaN|NAN)$")
+
+
+def _yaml_loader() -> Any:
+    """PyYAML's safe loader, refusing duplicate keys and reading YAML 1.2 floats (made once)."""
+    global _YAML_LOADER
+    if _YAML_LOADER is not None:
+        return _YAML_LOADER
     import yaml
 
     class Loader(yaml.SafeLoader):
@@ -148,6 +154,18 @@ def parse_yaml_bounded(text: str) -> Any:
                 seen[key] = key_node.start_mark.line + 1
             return super().construct_mapping(node, deep=deep)
 
+    Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_1_2, list("-+0123456789."))
+    _YAML_LOADER = Loader
+    return Loader
+
+
+def parse_yaml_bounded(text: str) -> Any:
+    """Parse YAML safely: duplicate keys refused, and the composed document checked for its
+    expanded size (aliases count as what they expand to) and depth before anything is
+    built, so an alias bomb costs nothing."""
+    import yaml
+
+    Loader = _yaml_loader()
     loader = Loader(text)
     try:
         node = loader.get_single_node()
