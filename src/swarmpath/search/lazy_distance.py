@@ -164,6 +164,24 @@ class LazyDistanceTables:
         return np.ascontiguousarray(np.where(inside, cells[:, 1] * self.width + cells[:, 0], -1), np.int64)
 
 
+#: Landmarks pay off when the robots' tables together will expand a sizeable share of the map:
+#: with fewer than one goal per this many free cells they cost more than they save.
+FREE_CELLS_PER_GOAL_FOR_LANDMARKS = 4096
+
+
+def choose_landmarks(requested: int | str, n_goals: int, blocked: ArrayLike, default: int = 8) -> int:
+    """The number of landmarks to build: ``requested`` when it is a number; for ``"auto"``,
+    ``default`` when there is at least one goal per :data:`FREE_CELLS_PER_GOAL_FOR_LANDMARKS`
+    free cells, else 0 (one robot on a 4000 x 4000 map must not pay for eight full distance
+    fields at reset)."""
+    if requested == "auto":
+        free = int(np.count_nonzero(~np.asarray(blocked, bool)))
+        return default if n_goals * FREE_CELLS_PER_GOAL_FOR_LANDMARKS >= free else 0
+    if isinstance(requested, bool) or not isinstance(requested, (int, np.integer)):
+        raise ConfigError(f"landmarks must be a whole number or 'auto', got {requested!r}")
+    return int(requested)
+
+
 def landmark_fields(blocked: NDArray[np.bool_], k: int, connectivity: int = 8) -> tuple[FloatArray, IntArray] | None:
     """Exact cost fields from ``k`` landmark cells chosen by farthest-point selection (the
     first farthest from the first free cell in scan order, each next one farthest from all

@@ -38,7 +38,7 @@ from swarmpath.control.pibt.core import (
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
-from swarmpath.search.lazy_distance import LazyDistanceTables
+from swarmpath.search.lazy_distance import LazyDistanceTables, choose_landmarks
 from swarmpath.world.move_rules import GRID_MOVES, move_conflicts
 from swarmpath.world.world import World
 
@@ -95,10 +95,10 @@ class PIBTController(Controller):
         With moving obstacles: 1 (default) also keeps robots out of cells from which every
         move may be swept by an obstacle the step after (a dead end an obstacle is heading
         into); 0 looks at the next step only.
-    landmarks : int
-        Landmark cells of the distance tables' differential heuristic (8; 0: octile only):
-        about half the cells expanded on cluttered maps for a fixed cost of 8 distance fields
-        at reset.
+    landmarks : int or "auto"
+        Landmark cells of the distance tables' differential heuristic ("auto": 8 when there is
+        a robot per 4,096 free cells or more, else 0; 0: octile only): about half the cells
+        expanded on cluttered maps for a fixed cost of 8 distance fields at reset.
     release_at_goal : bool
         Free a robot's distance table when it reaches its goal cell (True).
     """
@@ -106,7 +106,7 @@ class PIBTController(Controller):
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
     def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
-                 landmarks: int = 8, release_at_goal: bool = True):
+                 landmarks: int | str = "auto", release_at_goal: bool = True):
         self.connectivity = connectivity
         self.landmarks = landmarks
         self.lookahead = lookahead
@@ -131,7 +131,8 @@ class PIBTController(Controller):
         self.height_, self.width_ = grid.blocked.shape
         self.moves_ = static_moves(grid.blocked, self.connectivity)
         self.graph_ = GridGraph.build(grid.blocked, self.connectivity, radius, res)
-        self.tables_ = LazyDistanceTables(grid.blocked, connectivity=self.connectivity, landmarks=self.landmarks)
+        self.tables_ = LazyDistanceTables(grid.blocked, connectivity=self.connectivity,
+                                          landmarks=choose_landmarks(self.landmarks, world.n_robots, grid.blocked))
         self.goals_ = world.goals
         self.goal_cells_ = self._cells(self.goals_)
         self.goal_ok_ = grid.is_free(self.goal_cells_) if n else np.zeros(0, bool)

@@ -27,7 +27,7 @@ from swarmpath.planning.base import Plan, Planner, PlanStatus, RobotPlan
 from swarmpath.planning.lacam.search import lacam_search
 from swarmpath.registry import register_planner
 from swarmpath.rng import make_rng
-from swarmpath.search.lazy_distance import LazyDistanceTables
+from swarmpath.search.lazy_distance import LazyDistanceTables, choose_landmarks
 from swarmpath.types import SeedLike
 
 
@@ -45,14 +45,15 @@ class LaCAMPlanner(Planner):
         Budget of high-level nodes (configurations) created (1,000,000).
     swap : bool
         LaCAM3's swap emulation inside PIBT (True).
-    landmarks : int
-        Landmark cells of the distance tables' differential heuristic (8; 0: octile only).
+    landmarks : int or "auto"
+        Landmark cells of the distance tables' differential heuristic ("auto": 8 when there is
+        a robot per 4,096 free cells or more, else 0; 0: octile only).
     """
 
     capabilities = Capabilities(grid_based=True, multi_robot=True, randomized=True)
 
     def __init__(self, connectivity: int = 8, time_limit: float = 10.0, node_limit: int = 1_000_000,
-                 swap: bool = True, landmarks: int = 8):
+                 swap: bool = True, landmarks: int | str = "auto"):
         self.connectivity = connectivity
         self.landmarks = landmarks
         self.time_limit = time_limit
@@ -86,7 +87,8 @@ class LaCAMPlanner(Planner):
         else:
             self._check_cells(grid, world, starts_xy, "start", PlanStatus.INVALID_START, status, reasons)
             self._check_cells(grid, world, goals_xy, "goal", PlanStatus.INVALID_GOAL, status, reasons)
-        tables = LazyDistanceTables(grid.blocked, connectivity=self.connectivity, landmarks=self.landmarks)
+        tables = LazyDistanceTables(grid.blocked, connectivity=self.connectivity,
+                                    landmarks=choose_landmarks(self.landmarks, world.n_robots, grid.blocked))
         handles = np.full(n, -1, np.int64)
         ok = np.flatnonzero([st is None for st in status])
         if len(ok):
