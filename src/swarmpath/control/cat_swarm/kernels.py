@@ -177,9 +177,14 @@ def warning_levels(covered: list[BoolArray], cells: IntArray, decay: float) -> F
     return out
 
 
-def stay_depth(covered: list[BoolArray]) -> NDArray[np.int64]:
+def stay_depth(covered: list[BoolArray], shape: tuple[int, int] | None = None) -> NDArray[np.int64]:
     """For every cell, for how many of the next K steps it stays clear of every obstacle
-    (0 ... K), shape (height, width): how long a robot could wait there."""
+    (0 ... K), shape (height, width): how long a robot could wait there. With K = 0 steps
+    (an empty list) every cell gets 0; ``shape`` gives the grid's shape then."""
+    if not covered:
+        if shape is None:
+            raise ValueError("stay_depth: give the grid's shape when there are no steps")
+        return np.zeros(shape, dtype=np.int64)
     clear = np.ones(covered[0].shape, dtype=bool)
     depth = np.zeros(covered[0].shape, dtype=np.int64)
     for d in covered:
