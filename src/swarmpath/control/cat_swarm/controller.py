@@ -28,8 +28,6 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from swarmpath.capabilities import Capabilities
@@ -259,12 +257,7 @@ class CatSwarmController(Controller):
         seek = np.zeros(n, bool)
         members = np.flatnonzero(conflict)
         if len(members):
-            local = -np.ones(n, np.int64)
-            local[members] = np.arange(len(members))
-            e = edges[conflict[edges[:, 0]] & conflict[edges[:, 1]]]
-            graph = coo_matrix((np.ones(len(e)), (local[e[:, 0]], local[e[:, 1]])),
-                               shape=(len(members), len(members)))
-            _, labels = connected_components(graph, directed=False)
+            labels = K.conflict_groups(edges, conflict)
             seek[members] = K.mixture_split(remaining[members], labels, self.mixture_ratio, self.tiebreak_[members])
         seek |= obstacle_alert  # trace robots that see a moving obstacle switch to seek
         return seek, conflict & ~seek
