@@ -135,7 +135,7 @@ def run_case2(world, update: str, mode: str, init: str, seed: int, patience: int
         from swarmpath.planning.base import Plan
 
         plan = Plan("amopso-path", tuple(robots), float(np.nansum(cpu)), {})
-    traj = Simulator(world, AMOPSOFollowController(patience=patience), plan, seed=seed).run()
+    traj = Simulator(world, AMOPSOFollowController(max_waits=patience), plan, seed=seed).run()
     summary = run_summary(world, traj, plan, clearance=False)
     planned = np.array([r.length if r else np.nan for r in plan.robots], float)
     run = Case2Run(planned, executed_lengths(traj.positions), cpu, summary.success,
