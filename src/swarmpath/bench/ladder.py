@@ -83,7 +83,11 @@ def summarise(world: World, plan: Plan | None) -> Callable[[Trajectory, float], 
 
 def outcome(label: str, batch: Batch[RunSummary]) -> Outcome:
     """The :class:`Outcome` of a batch of run summaries."""
-    s = batch.records
+    return outcome_of(label, batch.records)
+
+
+def outcome_of(label: str, s: Sequence[RunSummary]) -> Outcome:
+    """The :class:`Outcome` of run summaries (one per seed)."""
     kinds = (ROBOT_ROBOT, ROBOT_MOVING, ROBOT_STATIC)
     return Outcome(label, np.array([r.success for r in s], bool), np.array([r.all_reached for r in s], bool),
                    np.array([[r.collisions[k] for k in kinds] for r in s], np.int64).reshape(-1, 3),
