@@ -95,6 +95,12 @@ def outcome_of(label: str, s: Sequence[RunSummary]) -> Outcome:
                    np.array([r.steps for r in s], float), np.array([r.sum_of_lengths for r in s], float))
 
 
+def merge_outcomes(label: str, parts: Sequence[Outcome]) -> Outcome:
+    """One :class:`Outcome` holding the runs of several (e.g. several robot counts)."""
+    return Outcome(label, *(np.concatenate([getattr(p, f) for p in parts]) for f in
+                            ("success", "reached", "contacts", "deadlocked", "stopped", "steps", "lengths")))
+
+
 def run_outcome(label: str, world: World, controller: Callable[[], Controller], seeds: Sequence[int], *,
                 plan: Plan | None = None, progress: Progress | None = None, keep: int = 0,
                 ) -> tuple[Outcome, tuple[Trajectory, ...]]:

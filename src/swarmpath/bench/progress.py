@@ -117,17 +117,22 @@ class Progress:
         return advance
 
     def finish(self) -> list[StageTime]:
-        """Close the last stage; write where the time went; returns the stage times."""
+        """Close the last stage; write where the time went (stages of the same name added up);
+        returns the stage times."""
         self._close_stage()
-        if self.stream is not None and self.stages:
-            wall = sum(s.wall_s for s in self.stages) or 1e-12
+        merged: dict[str, StageTime] = {}
+        for s in self.stages:  # a stage run several times (one per robot count, say) counts once
+            m = merged.setdefault(s.name, StageTime(s.name))
+            m.runs, m.cpu_s, m.wall_s = m.runs + s.runs, m.cpu_s + s.cpu_s, m.wall_s + s.wall_s
+        if self.stream is not None and merged:
+            wall = sum(s.wall_s for s in merged.values()) or 1e-12
             self._line(f"done: {self.done} runs in {time.perf_counter() - self._t0:.0f} s; time by stage:")
-            for s in sorted(self.stages, key=lambda s: -s.wall_s):
+            for s in sorted(merged.values(), key=lambda s: -s.wall_s):
                 per = f", {s.wall_s / s.runs:.2f} s per run" if s.runs else ""
                 self.stream.write(f"  {100 * s.wall_s / wall:5.1f} %  {s.wall_s:7.1f} s wall  {s.cpu_s:7.1f} s CPU  "
                                   f"{s.name} ({s.runs} runs{per})\n")
             self.stream.flush()
-        return list(self.stages)
+        return list(merged.values())
 
     def _line(self, text: str) -> None:
         self._last_line = time.perf_counter()
