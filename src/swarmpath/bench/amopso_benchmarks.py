@@ -17,7 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from swarmpath.bench.formatting import render, table
+from swarmpath.bench.formatting import render, sig, table
 from swarmpath.bench.progress import Progress
 from swarmpath.bench.stats import wilcoxon_vs
 from swarmpath.errors import ConfigError
@@ -56,10 +56,6 @@ class Cell:
     best: np.ndarray  # (runs,) best value of each run
     history: np.ndarray  # (runs, iterations) best-so-far per iteration
     cpu_time_s: float
-
-
-def _fmt(v: float) -> str:
-    return f"{v:.3g}" if abs(v) < 1e4 else f"{v:.2e}"
 
 
 def _plot(cells: dict[tuple[str, str], Cell], functions: Sequence[str], title: str, path: Path) -> None:
@@ -171,7 +167,7 @@ def _budget_section(particles: int, iterations: int, cells: dict[tuple[str, str]
     values = []
     for fname in functions:
         label = get_function(fname).paper_label or fname
-        values.append([f"{label} {fname}", *(f"{_fmt(b.min())} / {_fmt(b.mean())} +- {_fmt(b.std())}"
+        values.append([f"{label} {fname}", *(f"{sig(b.min())} / {sig(b.mean())} +- {sig(b.std())}"
                                              for b in (cells[(fname, a)].best for a in ALGORITHMS))])
     tally = {a: {"better": 0, "worse": 0, "no difference": 0} for a in ALGORITHMS[1:]}
     tests = []

@@ -16,6 +16,12 @@ def fmt(x: float | None, digits: int = 2, missing: str = "-") -> str:
     return f"{x:.{digits}f}"
 
 
+def sig(x: float) -> str:
+    """Three significant digits, scientific notation from 1e4 on (optimiser results that span
+    many orders of magnitude)."""
+    return f"{x:.3g}" if abs(x) < 1e4 else f"{x:.2e}"
+
+
 def pct(x: float | None, missing: str = "-") -> str:
     """A fraction as a whole percentage ("83%")."""
     return missing if x is None or not np.isfinite(x) else f"{100 * x:.0f}%"

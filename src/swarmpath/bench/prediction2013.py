@@ -34,7 +34,7 @@ from swarmpath.bench.formatting import fmt, render, table
 from swarmpath.bench.ladder import Rung, ladder_table, merge_outcomes, run_ladder
 from swarmpath.bench.progress import Progress
 from swarmpath.bench.runner import run_batch
-from swarmpath.bench.stats import paired_counts
+from swarmpath.bench.stats import mean, paired_counts
 from swarmpath.control.pso_predictive import (PaperPredictivePSOController, PaperReactivePSOController,
                                               PredictivePSOController, ReactivePSOController, Weights)
 from swarmpath.metrics.paths import executed_lengths
@@ -126,22 +126,17 @@ def _runs(world: World, factory, seeds: range, progress: Progress | None) -> lis
     return list(run_batch(world, factory, seeds, measure, progress=progress).records)
 
 
-def _mean(values) -> float:
-    v = np.asarray(list(values), float)
-    return float(v.mean()) if v.size else float("nan")
-
-
 def _summary(records: list[RunRecord]) -> dict:
     ok = [r for r in records if r.reached]
     return {
         "reached": sum(r.reached for r in records), "runs": len(records),
-        "steps": _mean(r.steps for r in ok), "steps_all": _mean(r.steps for r in records),
-        "collisions": _mean(r.collisions for r in records),
-        "moving": _mean(r.moving_collisions for r in records),
-        "robot": _mean(r.robot_collisions for r in records),
-        "static": _mean(r.static_collisions for r in records),
+        "steps": mean(r.steps for r in ok), "steps_all": mean(r.steps for r in records),
+        "collisions": mean(r.collisions for r in records),
+        "moving": mean(r.moving_collisions for r in records),
+        "robot": mean(r.robot_collisions for r in records),
+        "static": mean(r.static_collisions for r in records),
         "runs_with_collision": sum(r.collisions > 0 for r in records),
-        "cpu": _mean(r.cpu_s for r in records),
+        "cpu": mean(r.cpu_s for r in records),
     }
 
 
