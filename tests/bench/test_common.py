@@ -114,3 +114,12 @@ def test_ladder_rows_are_cumulative_and_outcomes_merge():
     assert merged.n_runs == 4 and merged.contacts.shape == (4, 3)
     assert side_by_side(outcomes)[0] == "| | ladder: paper | ladder: again |"
     assert outcomes[0].runs_with_contact == 2  # follow has no avoidance: the crossing robots meet
+
+
+def test_off_a_terminal_progress_names_stages_and_leaves_counting_to_the_command_line(capsys):
+    bar = Progress("auto", 2, lambda d, t: None, every_s=0.0)   # pytest's stdout is not a terminal
+    bar.stage("only", 2)
+    bar.tick(2)
+    bar.finish()
+    err = capsys.readouterr().err
+    assert "[auto] stage 1: only" in err and "time by stage" in err and "2/2 runs" not in err

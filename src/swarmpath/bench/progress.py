@@ -5,9 +5,10 @@ nobody watches a terminal, and where the time went.
 progress bar on a terminal, a no-op otherwise). :class:`Progress` wraps it: the reproduction
 names each *stage* (a batch of runs: "cat-swarm-paper, 20 seeds") and ticks once per run.
 When a callback is given but standard output is not a terminal (a log file, CI), it also
-writes plain lines to standard error: the stage that starts, its share of the whole, and,
-every ``every_s`` seconds, how far it got; at the end, a table of the time each stage took.
-Library callers that pass no callback get neither.
+writes plain lines to standard error: the stage that starts and its share of the whole, and
+at the end a table of the time each stage took (the command line's own lines say how many
+runs are done). Given a stream explicitly, it also writes, every ``every_s`` seconds, how far
+it got. Library callers that pass no callback get neither.
 """
 from __future__ import annotations
 
@@ -56,16 +57,20 @@ class Progress:
         Where plain lines go; "auto" (default): standard error when a callback is given and
         standard output is not a terminal; None: nowhere.
     every_s : float
-        Least time between two plain lines within a stage.
+        Least time between two count lines within a stage.
+    counts : bool, optional
+        Whether plain lines also count runs every ``every_s`` seconds (default: only with an
+        explicit stream; the command line counts runs itself).
     """
 
     def __init__(self, label: str, total: int, callback: ProgressCallback | None = None, *,
-                 stream: TextIO | None | str = "auto", every_s: float = 10.0):
+                 stream: TextIO | None | str = "auto", every_s: float = 10.0, counts: bool | None = None):
         self.label = label
         self.total = max(int(total), 1)
         self.callback = callback
         self.stream = _auto_stream(callback) if stream == "auto" else stream
         self.every_s = every_s
+        self.counts = (stream != "auto") if counts is None else counts
         self.done = 0
         self.stages: list[StageTime] = []
         self._t0 = time.perf_counter()
@@ -101,7 +106,7 @@ class Progress:
         if self.callback is not None:
             self.callback(min(self.done, self.total), self.total)
         now = time.perf_counter()
-        if self.stream is not None and now - self._last_line >= self.every_s:
+        if self.stream is not None and self.counts and now - self._last_line >= self.every_s:
             where = f" in '{self.stages[-1].name}'" if self.stages else ""
             self._line(f"{self.done}/{self.total} runs{where}, {now - self._t0:.0f} s so far")
 
