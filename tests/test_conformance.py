@@ -37,9 +37,11 @@ def test_motion_conforms(name: str) -> None:
 
 
 def test_the_stable_names_are_registered() -> None:
-    assert {"astar", "apf", "hybrid-apf", "amopso-path", "lacam", "none"} <= set(PLANNERS.names())
+    assert {"astar", "apf", "hybrid-apf", "amopso-path", "amopso-path-paper", "lacam", "none"} <= set(PLANNERS.names())
     assert {"follow", "cat-swarm", "pso-predictive", "pso-reactive", "fish-swarm", "amopso-follow", "pibt",
             "orca"} <= set(CONTROLLERS.names())
+    paper_pure = {"cat-swarm-paper", "pso-predictive-paper", "pso-reactive-paper", "amopso-follow-paper"}
+    assert paper_pure <= set(CONTROLLERS.names())
     assert {"pso", "amopso1", "amopso2", "amopso3", "amopso4", "mopso", "cso", "afsa"} <= set(OPTIMIZERS.names())
     assert {"jaleel2016", "prediction2013", "karim2014", "amopso-benchmarks", "amopso-paths"} <= set(REPRODUCTIONS.names())
     assert {"bounce", "bounce8", "turn-every", "random-walk", "redraw", "waypoints"} <= set(MOTIONS.names())

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from swarmpath.control.amopso_follow import AMOPSOFollowController, moves_conflict, turned
+from swarmpath.control.amopso_follow_paper import AMOPSOFollowPaperController
 from swarmpath.errors import ConfigError
 from swarmpath.planning import Plan, PlanStatus, RobotPlan
 from swarmpath.planning.amopso_path import AMOPSOPathPlanner
@@ -55,7 +56,7 @@ def test_moves_conflict_by_hand():
 def test_registered_and_bad_configuration():
     assert CONTROLLERS.get("amopso-follow") is AMOPSOFollowController
     assert AMOPSOFollowController.capabilities.needs_plan
-    for kw in ({"sidestep": 0}, {"sidestep": float("inf")}, {"separation": -1}, {"patience": -1}, {"patience": 1.5}):
+    for kw in ({"sidestep": 0}, {"sidestep": float("inf")}, {"separation": -1}, {"max_waits": -1}, {"max_waits": 1.5}):
         with pytest.raises(ConfigError):
             AMOPSOFollowController(**kw)
     w = conformance_worlds()[0]
@@ -68,7 +69,7 @@ def test_conformance_on_static_worlds(planner):
     # the controller ignores moving obstacles (capabilities), so the static worlds only
     worlds = [w for w in conformance_worlds() if not w.moving_obstacles]
     assert check_controller(AMOPSOFollowController, planner=planner, worlds=worlds) == []
-    assert check_controller(lambda: AMOPSOFollowController(patience=0), planner=planner, worlds=worlds) == []
+    assert check_controller(lambda: AMOPSOFollowController(max_waits=0), planner=planner, worlds=worlds) == []
 
 
 def _head_on(radius: float = 0.0) -> World:
@@ -76,17 +77,32 @@ def _head_on(radius: float = 0.0) -> World:
                                              Robot("b", (9, 5), (1, 5), radius, 0.5)), resolution=0.25)
 
 
-@pytest.mark.parametrize("patience", [0, 2])
+@pytest.mark.parametrize("factory, waits", [(lambda: AMOPSOFollowController(max_waits=0), False),
+                                             (AMOPSOFollowController, True),
+                                             (AMOPSOFollowPaperController, False)])
 @pytest.mark.parametrize("radius", [0.0, 0.3])
-def test_head_on_robots_side_step(patience, radius):
+def test_head_on_robots_side_step(factory, waits, radius):
     w = _head_on(radius)
-    traj = Simulator(w, AMOPSOFollowController(patience=patience), straight_plan(w), seed=0, max_steps=200).run()
+    traj = Simulator(w, factory(), straight_plan(w), seed=0, max_steps=200).run()
     assert traj.status == ALL_REACHED
     assert validate_trajectory(w, traj) == [] and traj.contacts == []
     steps = [e for e in traj.events if e.get("kind") == "sidestep"]
     assert steps and not [e for e in traj.events if e.get("kind") == "invalid_move"]
     modes = set(traj.mode_names)
-    assert "sidestep" in modes and ("wait" in modes) == (patience > 0)
+    assert "sidestep" in modes and ("wait" in modes) == waits
+
+
+def test_the_paper_rule_turns_at_once_and_never_slows_down():
+    w = _head_on()
+    paper = Simulator(w, AMOPSOFollowPaperController(), straight_plan(w), seed=0, max_steps=200).run()
+    ours = Simulator(w, AMOPSOFollowController(max_waits=0), straight_plan(w), seed=0, max_steps=200).run()
+    assert "slow" not in paper.mode_names and "slow" in ours.mode_names  # max_waits=0 still slows down first
+    turn = paper.modes == paper.mode_names.index("sidestep")
+    step, robot = (int(v[0]) for v in np.nonzero(turn))
+    assert paper.mode_names[paper.modes[step - 1, robot]] == "follow"  # straight from following to turning
+    assert CONTROLLERS.get("amopso-follow-paper") is AMOPSOFollowPaperController
+    with pytest.raises(ConfigError, match="amopso-follow-paper"):
+        AMOPSOFollowPaperController(sidestep=-1)
 
 
 def test_corridor_and_crossing():

@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmpath.bench.amopso_benchmarks import ALGORITHMS, PAPER_TABLE3, wilcoxon_vs
+from swarmpath.bench.amopso_benchmarks import ALGORITHMS, PAPER_TABLE3
+from swarmpath.bench.stats import wilcoxon_vs
 from swarmpath.errors import ConfigError
 from swarmpath.registry import REPRODUCTIONS
 

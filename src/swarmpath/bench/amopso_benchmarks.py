@@ -5,7 +5,7 @@ function of Table 2 for ``runs`` seeded runs (100 by default, as the paper) at t
 budget (8 particles x 120 iterations = 960 evaluations) and at a larger one (30 x 1000), and
 writes DIR/report.md with min / mean / std per cell, the paper's numbers beside ours, a
 Wilcoxon signed-rank test of each variant against SPSO on the same seeds (run r of every
-algorithm starts from the same swarm and sees the same noise), and convergence plots.
+algorithm starts from the same swarm and sees the same noise), and convergence plots (templates ``templates/amopso-benchmarks*.md``).
 """
 from __future__ import annotations
 
@@ -17,6 +17,9 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from swarmpath.bench.formatting import render, sig, table
+from swarmpath.bench.progress import Progress
+from swarmpath.bench.stats import wilcoxon_vs
 from swarmpath.errors import ConfigError
 from swarmpath.optim.benchmark import benchmark_results
 from swarmpath.optim.functions import PAPER_FUNCTIONS, get_function
@@ -55,27 +58,6 @@ class Cell:
     cpu_time_s: float
 
 
-def wilcoxon_vs(variant: np.ndarray, baseline: np.ndarray) -> tuple[float, str]:
-    """Two-sided Wilcoxon signed-rank p-value of paired samples and which side is better.
-
-    Returns (p, verdict) with verdict "better" / "worse" (than the baseline, lower is better,
-    at the 5 % level, by the median of the paired differences) or "no difference".
-    """
-    from scipy.stats import wilcoxon
-
-    diff = variant - baseline
-    if variant.shape[0] < 2 or np.all(diff == 0):
-        return 1.0, "no difference"
-    p = float(wilcoxon(variant, baseline).pvalue)
-    if not math.isfinite(p) or p >= 0.05:
-        return p, "no difference"
-    return p, "better" if np.median(diff) < 0 else "worse"
-
-
-def _fmt(v: float) -> str:
-    return f"{v:.3g}" if abs(v) < 1e4 else f"{v:.2e}"
-
-
 def _plot(cells: dict[tuple[str, str], Cell], functions: Sequence[str], title: str, path: Path) -> None:
     import matplotlib
 
@@ -107,6 +89,26 @@ def _plot(cells: dict[tuple[str, str], Cell], functions: Sequence[str], title: s
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def run_cells(budgets: Sequence[tuple[int, int]], functions: Sequence[str], dim: int, runs: int, seed: int,
+              progress: Progress) -> dict[tuple[int, int], dict[tuple[str, str], Cell]]:
+    """Every (budget, function, algorithm) cell: ``runs`` seeded runs each."""
+    results: dict[tuple[int, int], dict[tuple[str, str], Cell]] = {}
+    for particles, iterations in budgets:
+        progress.stage(f"{particles} particles x {iterations} iterations", len(functions) * len(ALGORITHMS) * runs)
+        cells: dict[tuple[str, str], Cell] = {}
+        for fname in functions:
+            for algo in ALGORITHMS:
+                t0 = time.process_time()
+                res = benchmark_results(algo, fname, dim, particles, iterations, runs, seed, progress=progress.ticker())
+                cells[(fname, algo)] = Cell(
+                    best=np.array([r.f for r in res]),
+                    history=np.stack([r.history for r in res]),
+                    cpu_time_s=time.process_time() - t0,
+                )
+        results[(particles, iterations)] = cells
+    return results
 
 
 @register_reproduction("amopso-benchmarks")
@@ -144,33 +146,11 @@ def reproduce(
         raise ConfigError(f"amopso-benchmarks: runs must be an integer >= 1, got {runs!r}")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    total = len(budgets) * len(functions) * len(ALGORITHMS) * runs
-    done = 0
-    if progress is not None:
-        progress(0, total)
+    bar = Progress("amopso-benchmarks", len(budgets) * len(functions) * len(ALGORITHMS) * runs, progress)
     started, cpu_started = time.perf_counter(), time.process_time()
-    results: dict[tuple[int, int], dict[tuple[str, str], Cell]] = {}
-    for particles, iterations in budgets:
-        cells: dict[tuple[str, str], Cell] = {}
-        for fname in functions:
-            for algo in ALGORITHMS:
-                offset = done
-
-                def tick(k: int, _total: int, offset: int = offset) -> None:
-                    if progress is not None:
-                        progress(offset + k, total)
-
-                t0 = time.process_time()
-                res = benchmark_results(algo, fname, dim, particles, iterations, runs, seed, progress=tick)
-                cells[(fname, algo)] = Cell(
-                    best=np.array([r.f for r in res]),
-                    history=np.stack([r.history for r in res]),
-                    cpu_time_s=time.process_time() - t0,
-                )
-                done += runs
-        results[(particles, iterations)] = cells
+    results = run_cells(budgets, functions, dim, runs, seed, bar)
     elapsed = (time.perf_counter() - started, time.process_time() - cpu_started)
-
+    bar.stage("figures and report")
     images = []
     for (particles, iterations), cells in results.items():
         name = f"convergence-{particles}x{iterations}.png"
@@ -178,7 +158,35 @@ def reproduce(
         images.append(name)
     report = out / "report.md"
     report.write_text(_report(results, functions, runs, seed, dim, elapsed, images), encoding="utf-8")
+    bar.finish()
     return report
+
+
+def _budget_section(particles: int, iterations: int, cells: dict[tuple[str, str], Cell], functions: Sequence[str],
+                    runs: int) -> str:
+    values = []
+    for fname in functions:
+        label = get_function(fname).paper_label or fname
+        values.append([f"{label} {fname}", *(f"{sig(b.min())} / {sig(b.mean())} +- {sig(b.std())}"
+                                             for b in (cells[(fname, a)].best for a in ALGORITHMS))])
+    tally = {a: {"better": 0, "worse": 0, "no difference": 0} for a in ALGORITHMS[1:]}
+    tests = []
+    for fname in functions:
+        base = cells[(fname, "spso")].best
+        row = [get_function(fname).paper_label or fname]
+        for algo in ALGORITHMS[1:]:
+            p, verdict = wilcoxon_vs(cells[(fname, algo)].best, base)
+            tally[algo][verdict] += 1
+            row.append(f"{verdict} (p = {p:.2g})")
+        tests.append(row)
+    return render("amopso-benchmarks-budget", particles=particles, iterations=iterations,
+                  evaluations=particles * iterations,
+                  values=table(["f", *(LABELS[a] for a in ALGORITHMS)], values),
+                  tests=table(["f", *(LABELS[a] for a in ALGORITHMS[1:])], tests),
+                  tally="; ".join(f"{LABELS[a]} better on {t['better']}, worse on {t['worse']}, no difference on "
+                                  f"{t['no difference']}" for a, t in tally.items()),
+                  cpu=", ".join(f"{LABELS[a]} {1000 * np.mean([cells[(f, a)].cpu_time_s for f in functions]) / runs:.1f}"
+                                for a in ALGORITHMS))
 
 
 def _report(
@@ -190,85 +198,11 @@ def _report(
     elapsed: tuple[float, float],
     images: list[str],
 ) -> str:
-    lines = [
-        "# AMOPSO benchmark functions (Abbas & Abdulsahab, Table 3)",
-        "",
-        f"{dim}-D, {runs} runs per cell, seed {seed}; run r of every algorithm starts from the same "
-        "swarm and draws the same quartic noise. Values are the best objective value of each run "
-        "(lower is better); std is the population standard deviation over runs. "
-        f"Run time: {elapsed[0]:.0f} s wall, {elapsed[1]:.0f} s CPU.",
-        "",
-        "Algorithms: SPSO = `spso` (w 0.9 -> 0.4 by eq. 32, c1 = c2 = 2); AMOPSO1-4 = Table 1 "
-        "(eq. 15/16, 17-22, 23-24). All clamp velocity to 0.2 of the box width and stop particles "
-        "at the box walls.",
-        "",
-    ]
-    for (particles, iterations), cells in results.items():
-        lines += [
-            f"## {particles} particles x {iterations} iterations ({particles * iterations} evaluations per run)",
-            "",
-            "min / mean +- std of the best value per run:",
-            "",
-            "| f | " + " | ".join(LABELS[a] for a in ALGORITHMS) + " |",
-            "|---|" + "---|" * len(ALGORITHMS),
-        ]
-        for fname in functions:
-            label = get_function(fname).paper_label or fname
-            row = [f"{label} {fname}"]
-            for algo in ALGORITHMS:
-                b = cells[(fname, algo)].best
-                row.append(f"{_fmt(b.min())} / {_fmt(b.mean())} +- {_fmt(b.std())}")
-            lines.append("| " + " | ".join(row) + " |")
-        lines += [
-            "",
-            "Wilcoxon signed-rank test of each variant against SPSO on the same seeds "
-            "(two-sided p; better/worse at the 5 % level by the median paired difference):",
-            "",
-            "| f | " + " | ".join(LABELS[a] for a in ALGORITHMS[1:]) + " |",
-            "|---|" + "---|" * (len(ALGORITHMS) - 1),
-        ]
-        tally = {a: {"better": 0, "worse": 0, "no difference": 0} for a in ALGORITHMS[1:]}
-        for fname in functions:
-            label = get_function(fname).paper_label or fname
-            base = cells[(fname, "spso")].best
-            row = [label]
-            for algo in ALGORITHMS[1:]:
-                p, verdict = wilcoxon_vs(cells[(fname, algo)].best, base)
-                tally[algo][verdict] += 1
-                row.append(f"{verdict} (p = {p:.2g})")
-            lines.append("| " + " | ".join(row) + " |")
-        lines += [
-            "",
-            "Against SPSO: " + "; ".join(
-                f"{LABELS[a]} better on {t['better']}, worse on {t['worse']}, no difference on {t['no difference']}"
-                for a, t in tally.items()
-            ) + ".",
-            "",
-            "CPU time per run (ms, mean over the functions): " + ", ".join(
-                f"{LABELS[a]} {1000 * np.mean([cells[(f, a)].cpu_time_s for f in functions]) / runs:.1f}"
-                for a in ALGORITHMS
-            ) + ".",
-            "",
-        ]
-    lines += [
-        "## The paper's Table 3 (8 particles x 120 iterations, 100 runs: min & average)",
-        "",
-        "| f | " + " | ".join(LABELS[a] for a in ALGORITHMS) + " |",
-        "|---|" + "---|" * len(ALGORITHMS),
-    ]
-    for label, row in PAPER_TABLE3.items():
-        lines.append("| " + label + " | " + " | ".join(f"{row[a][0]:g} & {row[a][1]:g}" for a in ALGORITHMS) + " |")
-    lines += [
-        "",
-        "The paper's values cannot come from 960 evaluations on these boxes (a random point of the "
-        "30-D sphere on [-100, 100] has f about 1e5, and after 960 evaluations every optimiser "
-        "here is still far above 1 on f1), so we compare the algorithms with each other, not "
-        "with the printed numbers. "
-        "See docs/papers/amopso.md for the discussion.",
-        "",
-        "## Convergence",
-        "",
-    ]
-    lines += [f"![{img}]({img})" for img in images]
-    lines.append("")
-    return "\n".join(lines)
+    """The report's Markdown (templates ``amopso-benchmarks*.md``)."""
+    budgets = "".join(_budget_section(p, i, cells, functions, runs) for (p, i), cells in results.items())
+    paper = table(["f", *(LABELS[a] for a in ALGORITHMS)],
+                  [[label, *(f"{row[a][0]:g} & {row[a][1]:g}" for a in ALGORITHMS)]
+                   for label, row in PAPER_TABLE3.items()])
+    return render("amopso-benchmarks", dim=dim, runs=runs, seed=seed, wall=f"{elapsed[0]:.0f}",
+                  cpu=f"{elapsed[1]:.0f}", budgets=budgets, paper_table=paper,
+                  images=[f"![{img}]({img})" for img in images])

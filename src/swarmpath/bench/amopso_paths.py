@@ -1,19 +1,24 @@
 """Reproduction of the path-planning cases of Abbas & Abdulsahab (section 5.3, Tables 5 and 6).
 
-``swarmpath reproduce amopso-paths --out DIR [--runs N]`` writes DIR/report.md and PNGs:
+``swarmpath reproduce amopso-paths --out DIR [--runs N]`` writes DIR/report.md (template
+``templates/amopso-paths.md``) and PNGs:
 
 - Table 5 in kind (case 1, ``abbas-case1``): for every velocity rule (SPSO and AMOPSO1-4),
-  Pareto mode and weighted sum, with and without the A* initialisation, ``runs`` seeded runs
-  (30 by default) of the ``amopso-path`` planner: path length, closest approach to each danger
-  zone (d1, d2), the paper's f1 = 1 / (d1 + d2), clearance from the zones, front size and CPU
-  time; a paired Wilcoxon test of each AMOPSO variant's length against SPSO on the same seeds;
-  the shortest collision-free path (visibility graph) and the shortest one that keeps out of
-  both zones as yardsticks; the paper's Table 5 beside ours.
+  Pareto mode and weighted sum, with and without the A* initialisation, at our budget, at the
+  paper's budget and at the paper's whole set-up (``amopso-path-paper``: random swarm, 8 x 120,
+  no mutation), ``runs`` seeded runs (30 by default): path length, closest approach to each
+  danger zone (d1, d2), the paper's f1 = 1 / (d1 + d2), clearance from the zones, front size
+  and CPU time; a paired Wilcoxon test of each AMOPSO variant's length against SPSO on the
+  same seeds; the shortest collision-free path (visibility graph) and the shortest one that
+  keeps out of both zones as yardsticks; the paper's Table 5 beside ours.
 - A weighted-sum sweep (W_danger from 0.5 to 0.99) showing eq. 13 moving along the front.
+- The ladder of case 1 from ``amopso-path-paper`` to ``amopso-path`` (:func:`ladder_case1`).
 - Table 6 in kind (case 2, ``abbas-case2``): per robot, the planned length, its ratio to the
   shortest collision-free length (visibility graph), the executed length in the simulator
   with the ``amopso-follow`` controller, CPU planning time, arrivals and collisions (the
-  simulator's checker), for Pareto and weighted sum; the paper's Table 6 beside ours.
+  simulator's checker), for Pareto and weighted sum; the paper's Table 6 beside ours; the
+  paper's method (``amopso-path-paper`` + ``amopso-follow-paper``) next to ours and the ladder
+  between them (:func:`ladder_case2`).
 - Figures: case 1 paths per rule, Pareto fronts (length vs f1) with the choices, case 2 planned
   and executed paths.
 
@@ -23,19 +28,29 @@ start from the same random swarm). Times are CPU seconds (the machine is shared)
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Sequence
 
 import numpy as np
 
+from swarmpath.bench.formatting import fmt, render, table
+from swarmpath.bench.progress import Progress
+from swarmpath.bench.stats import wilcoxon_vs
+from swarmpath.control.amopso_follow import AMOPSOFollowController
+from swarmpath.control.amopso_follow_paper import AMOPSOFollowPaperController
 from swarmpath.errors import ConfigError
+from swarmpath.planning.amopso_path import AMOPSOPathPlanner
+from swarmpath.planning.amopso_path_paper import AMOPSOPathPaperPlanner
+from swarmpath.planning.base import Planner
 from swarmpath.registry import register_reproduction
 
 UPDATES: tuple[str, ...] = ("spso", "amopso1", "amopso2", "amopso3", "amopso4")
 LABELS = {"spso": "SPSO", "pso": "PSO (constriction)", "amopso1": "AMOPSO1", "amopso2": "AMOPSO2", "amopso3": "AMOPSO3", "amopso4": "AMOPSO4"}
 MODES: tuple[str, ...] = ("pareto", "weighted-sum")
 INITS: tuple[str, ...] = ("astar", "random")
+#: Case-1 set-up keys beyond the inits: A* at the paper's budget, and the paper's whole set-up.
+PAPER_BUDGET_KEY, PAPER_SETUP_KEY = "astar-8x120", "paper"
 DEFAULT_RUNS = 30
 #: The paper's budget (section 5.1): N = 8 particles, Tmax = 120 iterations.
 PAPER_BUDGET = (8, 120)
@@ -92,14 +107,19 @@ class Case2Run:
     executed_paths: np.ndarray
 
 
-def run_case1(world, update: str, mode: str, init: str, seed: int, weights: Sequence[float] | None = None,
-              budget: tuple[int, int] | None = None) -> Case1Run:
-    """Plan ``abbas-case1`` once with ``amopso-path`` (see :class:`Case1Run`); ``budget`` =
-    (particles, iterations), default the planner's."""
-    from swarmpath.planning.amopso_path import AMOPSOPathPlanner
-
+def case1_planner(update: str, mode: str, init: str, weights: Sequence[float] | None = None,
+                  budget: tuple[int, int] | None = None) -> Planner:
+    """The planner of one case-1 configuration: ``init="paper"`` is ``amopso-path-paper``,
+    else ``amopso-path`` with that initialisation (``budget`` = (particles, iterations),
+    default the planner's)."""
+    if init == PAPER_SETUP_KEY:
+        return AMOPSOPathPaperPlanner(update=update, mode=mode, weights=weights)
     extra = {} if budget is None else {"particles": budget[0], "iterations": budget[1]}
-    planner = AMOPSOPathPlanner(update=update, mode=mode, init=init, weights=weights, **extra)
+    return AMOPSOPathPlanner(update=update, mode=mode, init=init, weights=weights, **extra)
+
+
+def plan_case1(world, planner: Planner, seed: int) -> Case1Run:
+    """Plan ``abbas-case1`` once with ``planner`` (see :class:`Case1Run`)."""
     t0 = time.process_time()
     plan = planner.plan(world, rng=seed)
     cpu = time.process_time() - t0
@@ -112,62 +132,252 @@ def run_case1(world, update: str, mode: str, init: str, seed: int, weights: Sequ
                     float(d["danger_clearance"]), front, r.path, cpu)
 
 
-def run_case2(world, update: str, mode: str, init: str, seed: int, patience: int = 2,
-              plan=None) -> tuple[Case2Run, object]:
-    """Plan ``abbas-case2`` with ``amopso-path`` (or use ``plan``) and execute it with
-    ``amopso-follow``; returns the run and the plan."""
-    from swarmpath.control.amopso_follow import AMOPSOFollowController
+def run_case1(world, update: str, mode: str, init: str, seed: int, weights: Sequence[float] | None = None,
+              budget: tuple[int, int] | None = None) -> Case1Run:
+    """Plan ``abbas-case1`` once (see :class:`Case1Run` and :func:`case1_planner`)."""
+    return plan_case1(world, case1_planner(update, mode, init, weights, budget), seed)
+
+
+def plan_case2(world, planner: Planner, seed: int):
+    """Each robot of ``abbas-case2`` planned alone (timed per robot); (plan, CPU s per robot)."""
+    from swarmpath.planning.base import Plan
+    from swarmpath.rng import make_rng
+
+    cpu = np.full(world.n_robots, np.nan)
+    robots = []
+    for k, robot in enumerate(world.robots):
+        t0 = time.process_time()
+        robots.append(planner.plan_robot(world, robot, rng=make_rng(seed, "amopso-path", robot.id)))
+        cpu[k] = time.process_time() - t0
+    return Plan(planner.registered_name, tuple(robots), float(np.nansum(cpu)), {}), cpu
+
+
+def execute_case2(world, plan, follower: Callable[[], object], seed: int, cpu=None) -> Case2Run:
+    """Execute a case-2 plan with the controller ``follower`` in the simulator."""
     from swarmpath.metrics.paths import executed_lengths
     from swarmpath.metrics.summary import run_summary
-    from swarmpath.planning.amopso_path import AMOPSOPathPlanner
-    from swarmpath.rng import make_rng
     from swarmpath.sim.simulator import Simulator
 
-    n = world.n_robots
-    cpu = np.full(n, np.nan)
-    if plan is None:
-        planner = AMOPSOPathPlanner(update=update, mode=mode, init=init)
-        robots = []
-        for k, robot in enumerate(world.robots):
-            t0 = time.process_time()
-            robots.append(planner.plan_robot(world, robot, rng=make_rng(seed, "amopso-path", robot.id)))
-            cpu[k] = time.process_time() - t0
-        from swarmpath.planning.base import Plan
-
-        plan = Plan("amopso-path", tuple(robots), float(np.nansum(cpu)), {})
-    traj = Simulator(world, AMOPSOFollowController(patience=patience), plan, seed=seed).run()
+    traj = Simulator(world, follower(), plan, seed=seed).run()
     summary = run_summary(world, traj, plan, clearance=False)
     planned = np.array([r.length if r else np.nan for r in plan.robots], float)
-    run = Case2Run(planned, executed_lengths(traj.positions), cpu, summary.success,
-                   summary.contacts, summary.makespan,
-                   sum(1 for e in traj.events if e.get("kind") == "sidestep"), list(plan.paths),
-                   np.asarray(traj.positions))
-    return run, plan
+    return Case2Run(planned, executed_lengths(traj.positions), np.full(world.n_robots, np.nan) if cpu is None else cpu,
+                    summary.success, summary.contacts, summary.makespan,
+                    sum(1 for e in traj.events if e.get("kind") == "sidestep"), list(plan.paths),
+                    np.asarray(traj.positions))
 
 
-def wilcoxon_vs(variant: np.ndarray, baseline: np.ndarray) -> tuple[float, str]:
-    """Two-sided paired Wilcoxon p-value and verdict ("better" / "worse" / "no difference" at
-    5 %, lower is better) of two samples of the same seeds; pairs with a nan are dropped."""
-    from scipy.stats import wilcoxon
-
-    ok = np.isfinite(variant) & np.isfinite(baseline)
-    diff = variant[ok] - baseline[ok]
-    if diff.shape[0] < 2 or np.all(diff == 0):
-        return 1.0, "no difference"
-    p = float(wilcoxon(variant[ok], baseline[ok]).pvalue)
-    if not np.isfinite(p) or p >= 0.05:
-        return p, "no difference"
-    return p, "better" if np.median(diff) < 0 else "worse"
+def run_case2(world, update: str, mode: str, init: str, seed: int, plan=None,
+              follower: Callable[[], object] = AMOPSOFollowController) -> tuple[Case2Run, object]:
+    """Plan ``abbas-case2`` with ``amopso-path`` (or use ``plan``) and execute it with
+    ``follower`` (``amopso-follow``); returns the run and the plan."""
+    cpu = None
+    if plan is None:
+        plan, cpu = plan_case2(world, AMOPSOPathPlanner(update=update, mode=mode, init=init), seed)
+    return execute_case2(world, plan, follower, seed, cpu), plan
 
 
-def _f(v: float, digits: int = 3) -> str:
-    return "-" if not np.isfinite(v) else f"{v:.{digits}f}"
+# ------------------------------------------------------------------------------------ ladders
+@dataclass(frozen=True)
+class PlannerRung:
+    """A rung of the case-1 ladder: the addition, what it fixes, the planner."""
+
+    addition: str
+    fixes: str
+    planner: Callable[[], Planner]
 
 
-def _s(fn: Callable[[np.ndarray], float], values: np.ndarray, digits: int = 3) -> str:
-    """``fn`` (a nan-ignoring statistic) of ``values`` formatted, "-" when all are nan."""
-    values = np.asarray(values, float)
-    return _f(float(fn(values)), digits) if np.isfinite(values).any() else "-"
+def case1_rungs(update: str = "amopso4", mode: str = "pareto") -> list[PlannerRung]:
+    """From ``amopso-path-paper`` to ``amopso-path`` (same rule and mode), one addition a rung."""
+    return [
+        PlannerRung("`amopso-path-paper` (random swarm by eq. 31, 8 x 120, no mutation)", "-",
+                    lambda: AMOPSOPathPaperPlanner(update=update, mode=mode)),
+        PlannerRung("Coello's mutation (`mutation_rate=0.2`)", "a small swarm converging early on a poor front",
+                    lambda: AMOPSOPathPlanner(update=update, mode=mode, init="random", particles=8)),
+        PlannerRung("30 particles (`particles=30`)", "8 particles sampling too little of the box",
+                    lambda: AMOPSOPathPlanner(update=update, mode=mode, init="random")),
+        PlannerRung("one particle on the A* path (`init=\"astar\"`) = `amopso-path`",
+                    "runs that never find the short way around the obstacles",
+                    lambda: AMOPSOPathPlanner(update=update, mode=mode)),
+    ]
+
+
+def ladder_case1(world, seeds: Sequence[int], progress: Progress | None = None) -> list[str]:
+    """Run the case-1 ladder over ``seeds``; its Markdown table."""
+    rungs = case1_rungs()
+    cells = []
+    for r in rungs:
+        if progress is not None:
+            progress.stage(f"case 1 ladder: {r.addition}", len(seeds))
+        cell = []
+        for s in seeds:
+            cell.append(plan_case1(world, r.planner(), s))
+            if progress is not None:
+                progress.tick()
+        cells.append(cell)
+    return ladder1_table(rungs, cells)
+
+
+def ladder1_table(rungs: Sequence[PlannerRung], cells: Sequence[list[Case1Run]]) -> list[str]:
+    rows = []
+    prev = None
+    for k, (r, cell) in enumerate(zip(rungs, cells)):
+        L = np.array([c.length for c in cell], float)
+        clear = np.array([c.clearance for c in cell], float)
+        ok = np.isfinite(L)
+        if prev is None:
+            test = "-"
+        else:
+            p, verdict = wilcoxon_vs(L, prev)
+            test = f"{verdict} (p = {p:.2g})"
+        rows.append([k, r.addition if k == 0 else f"+ {r.addition}", r.fixes, _s(np.nanmedian, L),
+                     f"{_s(np.nanmean, L)} +- {_s(np.nanstd, L)}", _s(np.nanmax, L), int(np.sum(clear[ok] < 0)),
+                     int(np.sum(~ok)), test])
+        prev = L
+    return table(["rung", "addition (cumulative)", "what it fixes", "length median", "mean +- std", "worst",
+                  "in zone", "no path", "vs the rung above"], rows)
+
+
+@dataclass(frozen=True)
+class Case2Rung:
+    """A rung of the case-2 ladder: the addition, what it fixes, whose plans, the follower."""
+
+    addition: str
+    fixes: str
+    plans: str          # "paper" (amopso-path-paper) or "ours" (amopso-path)
+    follower: Callable[[], object]
+
+
+def case2_rungs() -> list[Case2Rung]:
+    """From ``amopso-path-paper`` + ``amopso-follow-paper`` to ``amopso-path`` + ``amopso-follow``."""
+    return [
+        Case2Rung("`amopso-path-paper` plans, `amopso-follow-paper`", "-", "paper", AMOPSOFollowPaperController),
+        Case2Rung("`amopso-path` plans (A* particle, 30 particles, mutation)", "long detours in the plans",
+                  "ours", AMOPSOFollowPaperController),
+        Case2Rung("shorter moves along the path before turning (`amopso-follow`, `max_waits=0, separation=0`)",
+                  "side steps where slowing down would do", "ours",
+                  lambda: AMOPSOFollowController(max_waits=0, separation=0.0)),
+        Case2Rung("0.25 m of extra room between robots (`separation=0.25`)", "robots passing within a hair",
+                  "ours", lambda: AMOPSOFollowController(max_waits=0)),
+        Case2Rung("wait up to 2 steps before turning (`max_waits=2`) = `amopso-follow`",
+                  "detours where the other robot is gone a step later", "ours", AMOPSOFollowController),
+    ]
+
+
+def ladder_case2(world, seeds: Sequence[int], progress: Progress | None = None,
+                 ours: Sequence[object] | None = None) -> list[str]:
+    """Run the case-2 ladder over ``seeds`` (``ours``: the ``amopso-path`` plans of those
+    seeds when already made); its Markdown table."""
+    plans = {"paper": [], "ours": list(ours) if ours is not None else []}
+    if progress is not None:
+        progress.stage("case 2: amopso-path-paper plans", len(seeds))
+    for s in seeds:
+        plans["paper"].append(plan_case2(world, AMOPSOPathPaperPlanner(), s)[0])
+    if not plans["ours"]:
+        plans["ours"] = [plan_case2(world, AMOPSOPathPlanner(), s)[0] for s in seeds]
+    rungs = case2_rungs()
+    cells = []
+    for r in rungs:
+        if progress is not None:
+            progress.stage(f"case 2 ladder: {r.addition}", len(seeds))
+        cell = []
+        for s, plan in zip(seeds, plans[r.plans]):
+            cell.append(execute_case2(world, plan, r.follower, s))
+            if progress is not None:
+                progress.tick()
+        cells.append(cell)
+    return ladder2_table(world, rungs, cells)
+
+
+def ladder2_table(world, rungs: Sequence[Case2Rung], cells: Sequence[list[Case2Run]]) -> list[str]:
+    from swarmpath.planning.reference_paths import visibility_shortest_path
+
+    shortest = np.array([visibility_shortest_path(world, r)[1] for r in world.robots], float)
+    rows = []
+    for k, (r, cell) in enumerate(zip(rungs, cells)):
+        P = np.array([c.planned for c in cell])
+        E = np.array([c.executed for c in cell])
+        mk = [c.makespan for c in cell if c.makespan is not None]
+        rows.append([k, r.addition if k == 0 else f"+ {r.addition}", r.fixes,
+                     f"{sum(c.success for c in cell)}/{len(cell)}", sum(c.collisions for c in cell),
+                     sum(c.sidesteps for c in cell), f"{np.median(mk):.0f}" if mk else "-",
+                     _s(np.nanmedian, P / shortest), _s(np.nanmax, P / shortest), _s(np.nanmax, E / P)])
+    return table(["rung", "addition (cumulative)", "what it fixes", "all at their goals, no contact", "contacts",
+                  "side steps", "makespan (median)", "planned / shortest (median)", "planned / shortest (max)",
+                  "executed / planned (max)"], rows)
+
+
+# ------------------------------------------------------------------------------------ runs
+@dataclass(frozen=True)
+class Results:
+    """Every run of the report (keys as in the tables)."""
+
+    runs: int
+    seed: int
+    sweep_runs: int
+    case1: dict[tuple[str, str, str], list[Case1Run]]
+    sweep: dict[float, list[Case1Run]]
+    case2: dict[tuple[str, str, str], list[Case2Run]]
+    waitless: list[Case2Run]
+    ladder1: list[str]
+    ladder2: list[str]
+    elapsed: tuple[float, float]
+
+
+def run_experiments(w1, w2, runs: int, seed: int, updates: Sequence[str], inits: Sequence[str],
+                    case2_configs: Sequence[tuple[str, str, str]], sweep: Sequence[float],
+                    progress: Progress) -> Results:
+    """All plans and runs of the report."""
+    sweep_runs = max(1, min(runs, 10))
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    case1: dict[tuple[str, str, str], list[Case1Run]] = {}
+    setups = [(init, None) for init in inits] + [(PAPER_BUDGET_KEY, PAPER_BUDGET), (PAPER_SETUP_KEY, None)]
+    for init, budget in setups:
+        progress.stage(f"case 1: {init}", len(MODES) * len(updates) * runs)
+        for mode in MODES:
+            for update in updates:
+                planner_init = "astar" if init == PAPER_BUDGET_KEY else init
+                cell = []
+                for r in range(runs):
+                    cell.append(run_case1(w1, update, mode, planner_init, seed + r, budget=budget))
+                    progress.tick()
+                case1[(update, mode, init)] = cell
+    progress.stage("case 1: weighted-sum sweep", len(sweep) * sweep_runs)
+    sweep_res: dict[float, list[Case1Run]] = {}
+    for wd in sweep:
+        sweep_res[wd] = []
+        for r in range(sweep_runs):
+            sweep_res[wd].append(run_case1(w1, "amopso4", "weighted-sum", "astar", seed + r, (1 - wd, wd)))
+            progress.tick()
+    ladder1 = ladder_case1(w1, range(seed, seed + runs), progress)
+    progress.stage("case 2: Table 6 configurations", len(case2_configs) * runs)
+    case2: dict[tuple[str, str, str], list[Case2Run]] = {}
+    plans0: list = []
+    for cfg in case2_configs:
+        cell = []
+        for r in range(runs):
+            run, plan = run_case2(w2, *cfg, seed + r)
+            cell.append(run)
+            if cfg == case2_configs[0]:
+                plans0.append(plan)
+            progress.tick()
+        case2[cfg] = cell
+    progress.stage("case 2: side steps without waiting", runs)
+    waitless = []
+    for r, plan in enumerate(plans0):
+        waitless.append(run_case2(w2, *case2_configs[0], seed + r, plan=plan,
+                                  follower=lambda: AMOPSOFollowController(max_waits=0))[0])
+        progress.tick()
+    default = case2_configs[0] == ("amopso4", "pareto", "astar")
+    ladder2 = ladder_case2(w2, range(seed, seed + runs), progress, ours=plans0 if default else None)
+    return Results(runs, seed, sweep_runs, case1, sweep_res, case2, waitless, ladder1, ladder2,
+                   (time.perf_counter() - wall0, time.process_time() - cpu0))
+
+
+def n_runs(runs: int, updates, inits, case2_configs, sweep) -> int:
+    """Plans and runs of the whole reproduction (the progress total)."""
+    return (len(updates) * len(MODES) * (len(inits) + 2) * runs + len(sweep) * max(1, min(runs, 10))
+            + len(case1_rungs()) * runs + len(case2_configs) * runs + runs + len(case2_rungs()) * runs)
 
 
 @register_reproduction("amopso-paths")
@@ -195,8 +405,7 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
     -------
     Path of report.md.
     """
-    from swarmpath.planning.reference_paths import visibility_shortest_path
-    from swarmpath.world import Circle, load_scenario
+    from swarmpath.world import load_scenario
 
     runs = DEFAULT_RUNS if runs is None else runs
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
@@ -204,75 +413,34 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     w1, w2 = load_scenario("abbas-case1"), load_scenario("abbas-case2")
-    sweep_runs = max(1, min(runs, 10))
-    total = (len(updates) * len(MODES) * (len(inits) + 1) * runs + len(sweep) * sweep_runs
-             + len(case2_configs) * runs + runs)
-    done = 0
-    cpu0, wall0 = time.process_time(), time.perf_counter()
-
-    def tick() -> None:
-        nonlocal done
-        done += 1
-        if progress is not None:
-            progress(done, total)
-
-    if progress is not None:
-        progress(0, total)
-    case1: dict[tuple[str, str, str], list[Case1Run]] = {}
-    for init in inits:
-        for mode in MODES:
-            for update in updates:
-                cell = []
-                for r in range(runs):
-                    cell.append(run_case1(w1, update, mode, init, seed + r))
-                    tick()
-                case1[(update, mode, init)] = cell
-    for mode in MODES:           # the paper's budget, A* initialisation: init key "astar-8x120"
-        for update in updates:
-            cell = []
-            for r in range(runs):
-                cell.append(run_case1(w1, update, mode, "astar", seed + r, budget=PAPER_BUDGET))
-                tick()
-            case1[(update, mode, "astar-8x120")] = cell
-    sweep_res: dict[float, list[Case1Run]] = {}
-    for wd in sweep:
-        sweep_res[wd] = []
-        for r in range(sweep_runs):
-            sweep_res[wd].append(run_case1(w1, "amopso4", "weighted-sum", "astar", seed + r, (1 - wd, wd)))
-            tick()
-    case2: dict[tuple[str, str, str], list[Case2Run]] = {}
-    plans0: list = []
-    for cfg in case2_configs:
-        cell = []
-        for r in range(runs):
-            run, plan = run_case2(w2, *cfg, seed + r)
-            cell.append(run)
-            if cfg == case2_configs[0]:
-                plans0.append(plan)
-            tick()
-        case2[cfg] = cell
-    literal = []  # the paper's rule taken literally: side step at once (patience 0)
-    for r, plan in enumerate(plans0):
-        literal.append(run_case2(w2, *case2_configs[0], seed + r, patience=0, plan=plan)[0])
-        tick()
-    cpu, wall = time.process_time() - cpu0, time.perf_counter() - wall0
-
-    robot = w1.robots[0]
-    ref1, ref1_len = visibility_shortest_path(w1, robot)
-    zones = tuple(Circle(z.center, z.radius) for z in w1.danger_zones)
-    ref1s, ref1s_len = visibility_shortest_path(w1.replace(obstacles=w1.obstacles + zones), robot)
-    ref2 = [visibility_shortest_path(w2, r) for r in w2.robots]
-
-    images = _figures(out, w1, w2, case1, sweep_res, case2, updates, inits, case2_configs, ref1, ref1s)
-    text = _report(case1, sweep_res, case2, literal, updates, inits, case2_configs, runs, sweep_runs, seed,
-                   (wall, cpu), ref1_len, ref1s_len, [x[1] for x in ref2], w1, w2, images)
+    bar = Progress("amopso-paths", n_runs(runs, updates, inits, case2_configs, sweep), progress)
+    results = run_experiments(w1, w2, runs, seed, updates, inits, case2_configs, sweep, bar)
+    bar.stage("figures and report")
     report = out / "report.md"
-    report.write_text(text, encoding="utf-8")
+    report.write_text(render_report(results, w1, w2, updates, inits, case2_configs, out), encoding="utf-8")
+    bar.finish()
     return report
 
 
 # ------------------------------------------------------------------------------------ report
-def _case1_rows(case1, updates, mode, init, ref_safe: float) -> list[str]:
+def _f(v: float, digits: int = 3) -> str:
+    return fmt(v, digits)
+
+
+def _s(fn: Callable[[np.ndarray], float], values: np.ndarray, digits: int = 3) -> str:
+    """``fn`` (a nan-ignoring statistic) of ``values`` formatted, "-" when all are nan."""
+    values = np.asarray(values, float)
+    return _f(float(fn(values)), digits) if np.isfinite(values).any() else "-"
+
+
+CASE1_TITLES = {"astar": "A* initialisation", "random": "random initialisation (eq. 31)",
+                PAPER_BUDGET_KEY: f"A* initialisation, the paper's budget ({PAPER_BUDGET[0]} particles x "
+                                  f"{PAPER_BUDGET[1]} iterations)",
+                PAPER_SETUP_KEY: f"the paper's set-up (`amopso-path-paper`: random initialisation, "
+                                 f"{PAPER_BUDGET[0]} particles x {PAPER_BUDGET[1]} iterations, no mutation)"}
+
+
+def _case1_rows(case1, updates, mode, init, ref_safe: float) -> list[list[object]]:
     rows = []
     base = np.array([c.length for c in case1.get(("spso", mode, init), [])], float)
     for update in updates:
@@ -289,152 +457,105 @@ def _case1_rows(case1, updates, mode, init, ref_safe: float) -> list[str]:
         else:
             test = "baseline"
         med = np.nanmedian
-        rows.append(
-            f"| {LABELS[update]} | {_s(med, L)} | {_s(np.nanmean, L)} +- {_s(np.nanstd, L)} | "
-            f"{_s(np.nanmin, L)} | {_s(med, L / ref_safe)} | {_s(med, d[:, 0])} | {_s(med, d[:, 1])} | "
-            f"{_s(med, d.sum(axis=1))} | {_s(np.nanmin, clear)} | {int(np.sum(clear[ok] < 0))} | "
-            f"{int(np.sum(~ok))} | {int(np.median(fronts))} | {1000 * cpu:.0f} | {test} |")
+        rows.append([LABELS[update], _s(med, L), f"{_s(np.nanmean, L)} +- {_s(np.nanstd, L)}", _s(np.nanmin, L),
+                     _s(med, L / ref_safe), _s(med, d[:, 0]), _s(med, d[:, 1]), _s(med, d.sum(axis=1)),
+                     _s(np.nanmin, clear), int(np.sum(clear[ok] < 0)), int(np.sum(~ok)), int(np.median(fronts)),
+                     f"{1000 * cpu:.0f}", test])
     return rows
 
 
-def _report(case1, sweep_res, case2, literal, updates, inits, case2_configs, runs, sweep_runs, seed, elapsed,
-            ref1_len, ref1s_len, ref2_len, w1, w2, images) -> str:
-    from swarmpath.planning.amopso_path import AMOPSOPathPlanner
-
-    defaults = AMOPSOPathPlanner().params()
-    radii = sorted({z.radius for z in w1.danger_zones})
-    lines = [
-        "# AMOPSO path planning (Abbas & Abdulsahab, section 5.3, Tables 5 and 6)",
-        "",
-        f"{runs} runs per configuration (run r uses seed {seed} + r), `amopso-path` with K = "
-        f"{defaults['waypoints']} waypoints, {defaults['particles']} particles x {defaults['iterations']} "
-        f"iterations per robot, archive {defaults['archive_size']}. Run time {elapsed[0]:.0f} s wall, "
-        f"{elapsed[1]:.0f} s CPU. Times below are CPU seconds.",
-        "",
-        "## Case 1: one robot, two obstacles, two danger zones (Table 5 in kind)",
-        "",
-        f"`abbas-case1`: 11 x 11, start (0, 0), goal (10, 10), circles (1, 2) r 1 and (5.5, 5.5) r 1.5, "
-        f"danger zones at (1, 4) and (2, 5.5) with radius {', '.join(f'{r:g}' for r in radii)}. "
-        f"Shortest collision-free path (visibility graph): **{ref1_len:.3f}** (straight line 14.142); "
-        f"shortest path that also stays out of both zones: **{ref1s_len:.3f}**. "
-        "Pareto mode returns the shortest front member that keeps out of every zone (clearance >= 0); "
-        "weighted sum minimises 0.5 length + 0.5 f1 (eq. 13).",
-        "",
-        "Columns: length median, mean +- std and best over the runs; ratio = median / the shortest path "
-        "outside the zones; d1, d2 = closest approach of the path to danger zone 1 and 2 (median); "
-        "d1 + d2 = 1 / f1 (the paper's eq. 1 over the polyline); min clear = the smallest clearance "
-        "from the zones over the runs (negative: a run entered a zone); in zone = runs whose path "
-        "enters a zone; no path = runs without a collision-free path; front = collision-free archive "
-        "size (median); CPU per plan; paired Wilcoxon of the length against SPSO on the same seeds.",
-        "",
-    ]
-    head = ("| rule | median | mean +- std | best | ratio | d1 | d2 | d1 + d2 | min clear | in zone | no path "
-            "| front | CPU ms | vs SPSO |")
-    sep = "|---|" + "---|" * 13
-    names = {"astar": "A* initialisation", "random": "random initialisation (eq. 31)",
-             "astar-8x120": f"A* initialisation, the paper's budget ({PAPER_BUDGET[0]} particles x "
-                            f"{PAPER_BUDGET[1]} iterations)"}
-    for init in (*inits, "astar-8x120"):
+def _case1_sections(case1, updates, inits, ref_safe: float) -> list[str]:
+    head = ["rule", "median", "mean +- std", "best", "ratio", "d1", "d2", "d1 + d2", "min clear", "in zone",
+            "no path", "front", "CPU ms", "vs SPSO"]
+    lines: list[str] = []
+    for init in (*inits, PAPER_BUDGET_KEY, PAPER_SETUP_KEY):
         for mode in MODES:
-            lines += [f"### {mode}, {names[init]}", "", head, sep]
-            lines += _case1_rows(case1, updates, mode, init, ref1s_len)
+            lines += [f"### {mode}, {CASE1_TITLES[init]}", ""]
+            lines += table(head, _case1_rows(case1, updates, mode, init, ref_safe))
             lines.append("")
-    lines += [
-        "### The paper's Table 5",
-        "",
-        "| rule | max distance from danger zone, Pareto | weighted sum | min distance start-target, Pareto "
-        "| weighted sum |",
-        "|---|---|---|---|---|",
-    ]
-    for u, (a, b, c, d) in PAPER_TABLE5.items():
-        lines.append(f"| {LABELS[u]} | {a:g} | {b:g} | {c:g} | {d:g} |")
-    lines += [
-        "",
-        "The paper does not say how its \"max distance from danger zone\" (33-46) is computed; it cannot "
-        "be a single distance in an 11 x 11 m workspace, so we report the closest approaches d1, d2 "
-        "and their sum instead. Its lengths 14.43-14.44 (weighted sum) are below the shortest "
-        "collision-free length with our reading of the garbled obstacle table; see docs/papers/amopso.md.",
-        "",
-        f"### Weighted sum moving along the front (AMOPSO4, A* initialisation, {sweep_runs} runs each)",
-        "",
-        "| W_length, W_danger | length (median) | d1 (median) | d2 (median) | f1 (median) | min clear |",
-        "|---|---|---|---|---|---|",
-    ]
+    return lines[:-1]
+
+
+def _sweep_table(sweep_res) -> list[str]:
+    rows = []
     for wd, cell in sweep_res.items():
         L = np.array([c.length for c in cell])
         d = np.array([c.d for c in cell])
         f1 = np.array([c.f1 for c in cell])
         cl = np.array([c.clearance for c in cell])
-        lines.append(f"| {1 - wd:.2f}, {wd:.2f} | {_f(np.nanmedian(L))} | {_f(np.nanmedian(d[:, 0]))} | "
-                     f"{_f(np.nanmedian(d[:, 1]))} | {np.nanmedian(f1):.4f} | {_f(np.nanmin(cl))} |")
-    lines += [
-        "",
-        "## Case 2: five robots, five obstacles (Table 6 in kind)",
-        "",
-        "`abbas-case2`: 10 x 10, the paper's starts and goals (R3's goal read as (5, 10)), our five "
-        "obstacles (see the scenario file). Each robot is planned alone by `amopso-path`; the plans "
-        "are executed in the simulator by `amopso-follow` (follow the path; on a conflict slow "
-        "down, wait up to 2 steps, then side step by the threshold; see docs/papers/amopso.md). "
-        "Shortest = visibility-graph shortest collision-free length; ratio = planned / shortest "
-        "(median and max over runs); executed = length driven in the simulator (median).",
-        "",
-    ]
-    ids = [r.id for r in w2.robots]
+        rows.append([f"{1 - wd:.2f}, {wd:.2f}", _f(np.nanmedian(L)), _f(np.nanmedian(d[:, 0])),
+                     _f(np.nanmedian(d[:, 1])), f"{np.nanmedian(f1):.4f}", _f(np.nanmin(cl))])
+    return table(["W_length, W_danger", "length (median)", "d1 (median)", "d2 (median)", "f1 (median)",
+                  "min clear"], rows)
+
+
+def _case2_sections(case2, case2_configs, ids, ref2_len) -> list[str]:
+    lines: list[str] = []
     for cfg in case2_configs:
         cell = case2[cfg]
         P = np.array([c.planned for c in cell])
         E = np.array([c.executed for c in cell])
         C = np.array([c.cpu_s for c in cell])
-        lines += [f"### {LABELS[cfg[0]]}, {cfg[1]}, {'A*' if cfg[2] == 'astar' else 'random'} initialisation", "",
-                  "| robot | paper | shortest | planned (median) | ratio median | ratio max | executed (median) "
-                  "| CPU s per plan (mean) | no path |",
-                  "|---|---|---|---|---|---|---|---|---|"]
+        rows = []
         for k, rid in enumerate(ids):
             ratio = P[:, k] / ref2_len[k]
-            lines.append(f"| {rid} | {PAPER_TABLE6.get(rid, float('nan')):g} | {ref2_len[k]:.3f} | "
-                         f"{_s(np.nanmedian, P[:, k])} | {_s(np.nanmedian, ratio)} | {_s(np.nanmax, ratio)} | "
-                         f"{_s(np.nanmedian, E[:, k])} | {np.nanmean(C[:, k]):.3f} | "
-                         f"{int(np.sum(~np.isfinite(ratio)))} |")
-        succ = sum(c.success for c in cell)
-        coll = sum(c.collisions for c in cell)
+            rows.append([rid, f"{PAPER_TABLE6.get(rid, float('nan')):g}", f"{ref2_len[k]:.3f}",
+                         _s(np.nanmedian, P[:, k]), _s(np.nanmedian, ratio), _s(np.nanmax, ratio),
+                         _s(np.nanmedian, E[:, k]), f"{np.nanmean(C[:, k]):.3f}", int(np.sum(~np.isfinite(ratio)))])
         mk = [c.makespan for c in cell if c.makespan is not None]
-        lines += ["", f"All five at their goals in {succ} of {len(cell)} runs; contacts (simulator's checker) "
-                      f"{coll}; makespan median {np.median(mk) if mk else float('nan'):.0f} steps; side steps "
+        lines += [f"### {LABELS[cfg[0]]}, {cfg[1]}, {'A*' if cfg[2] == 'astar' else 'random'} initialisation", ""]
+        lines += table(["robot", "paper", "shortest", "planned (median)", "ratio median", "ratio max",
+                        "executed (median)", "CPU s per plan (mean)", "no path"], rows)
+        lines += ["", f"All five at their goals in {sum(c.success for c in cell)} of {len(cell)} runs; contacts "
+                      f"(simulator's checker) {sum(c.collisions for c in cell)}; makespan median "
+                      f"{np.median(mk) if mk else float('nan'):.0f} steps; side steps "
                       f"{sum(c.sidesteps for c in cell)} in all runs; planning CPU time for the five robots "
                       f"{np.nanmean(np.nansum(C, axis=1)):.2f} s (mean).", ""]
-    if literal:
-        E = np.array([c.executed for c in literal])
-        P = np.array([c.planned for c in literal])
-        lines += [
-            f"### The paper's rule taken literally: side step at once (patience 0), plans of "
-            f"{LABELS[case2_configs[0][0]]}, {case2_configs[0][1]}",
-            "",
-            f"All five at their goals in {sum(c.success for c in literal)} of {len(literal)} runs; contacts "
-            f"{sum(c.collisions for c in literal)}; side steps {sum(c.sidesteps for c in literal)}; "
-            f"makespan median {np.median([c.makespan for c in literal if c.makespan is not None] or [np.nan]):.0f}; "
-            f"executed / planned length, max over robots and runs: {np.nanmax(E / P):.3f} "
-            "(waiting two steps first: see the tables above).",
-            "",
-        ]
-    lines += [
-        "### The paper's Table 6",
-        "",
-        "| robot | length (Pareto = weighted sum) |",
-        "|---|---|",
-    ]
-    lines += [f"| {rid} | {v:g} |" for rid, v in PAPER_TABLE6.items()]
-    lines += [
-        "",
-        f"Time: Pareto {PAPER_TIME6['pareto']:g}, weighted sum {PAPER_TIME6['weighted-sum']:g} (units and "
-        "what was timed are not stated). The paper's obstacles are not given, so lengths compare in "
-        "kind only: ours are measured against the shortest path among our obstacles.",
-        "",
-        "## Figures",
-        "",
-    ]
-    lines += [f"![{img}]({img})" for img in images]
-    lines.append("")
-    return "\n".join(lines)
+    return lines[:-1]
+
+
+def _waitless(waitless: list[Case2Run], cfg) -> list[str]:
+    if not waitless:
+        return []
+    E = np.array([c.executed for c in waitless])
+    P = np.array([c.planned for c in waitless])
+    mk = [c.makespan for c in waitless if c.makespan is not None] or [np.nan]
+    return [f"### Side steps without waiting (`amopso-follow`, `max_waits=0`: shorter moves along the path, "
+            f"then a side step at once), plans of {LABELS[cfg[0]]}, {cfg[1]}", "",
+            f"All five at their goals in {sum(c.success for c in waitless)} of {len(waitless)} runs; contacts "
+            f"{sum(c.collisions for c in waitless)}; side steps {sum(c.sidesteps for c in waitless)}; "
+            f"makespan median {np.median(mk):.0f}; executed / planned length, max over robots and runs: "
+            f"{np.nanmax(E / P):.3f} (waiting two steps first: see the tables above; the paper's rule, without "
+            "the shorter moves, is `amopso-follow-paper` below)."]
+
+
+def render_report(r: Results, w1, w2, updates, inits, case2_configs, out: Path) -> str:
+    """Figures and the report's Markdown (template ``amopso-paths.md``)."""
+    from swarmpath.planning.reference_paths import visibility_shortest_path
+    from swarmpath.world import Circle
+
+    robot = w1.robots[0]
+    ref1, ref1_len = visibility_shortest_path(w1, robot)
+    zones = tuple(Circle(z.center, z.radius) for z in w1.danger_zones)
+    ref1s, ref1s_len = visibility_shortest_path(w1.replace(obstacles=w1.obstacles + zones), robot)
+    ref2_len = [visibility_shortest_path(w2, x)[1] for x in w2.robots]
+    images = _figures(out, w1, w2, r.case1, r.sweep, r.case2, updates, inits, case2_configs, ref1, ref1s)
+    defaults = AMOPSOPathPlanner().params()
+    return render(
+        "amopso-paths", runs=r.runs, seed=r.seed, waypoints=defaults["waypoints"], particles=defaults["particles"],
+        iterations=defaults["iterations"], archive=defaults["archive_size"], wall=f"{r.elapsed[0]:.0f}",
+        cpu=f"{r.elapsed[1]:.0f}", radii=", ".join(f"{x:g}" for x in sorted({z.radius for z in w1.danger_zones})),
+        ref1=f"{ref1_len:.3f}", ref1s=f"{ref1s_len:.3f}", case1=_case1_sections(r.case1, updates, inits, ref1s_len),
+        paper_table5=table(["rule", "max distance from danger zone, Pareto", "weighted sum",
+                            "min distance start-target, Pareto", "weighted sum"],
+                           [[LABELS[u], f"{a:g}", f"{b:g}", f"{c:g}", f"{d:g}"]
+                            for u, (a, b, c, d) in PAPER_TABLE5.items()]),
+        sweep_runs=r.sweep_runs, sweep=_sweep_table(r.sweep), ladder1=r.ladder1,
+        case2=_case2_sections(r.case2, case2_configs, [x.id for x in w2.robots], ref2_len),
+        waitless=_waitless(r.waitless, case2_configs[0]),
+        paper_table6=table(["robot", "length (Pareto = weighted sum)"], [[k, f"{v:g}"] for k, v in PAPER_TABLE6.items()]),
+        time_pareto=f"{PAPER_TIME6['pareto']:g}", time_ws=f"{PAPER_TIME6['weighted-sum']:g}", ladder2=r.ladder2,
+        images=[f"![{img}]({img})" for img in images])
 
 
 # ----------------------------------------------------------------------------------- figures

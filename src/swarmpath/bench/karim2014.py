@@ -12,14 +12,16 @@ obstacles redrawn at random free cells every step, w = 3, delta = 0.5):
    food from the distance field instead of the Euclidean distance;
 3. not in the paper: random-walk obstacles (they move to a neighbouring cell each step and may
    step onto the robot), contacts counted by the simulator's checker;
-4. Figure 1 like the paper's: the behaviour at each step of one run and the path; the path
+4. the paper's uniform redraw (obstacles may land on the robot and its goal) next to ours, on
+   the seeds of Tables 1 and 2, and the ablation ladder from the one to the other;
+5. Figure 1 like the paper's: the behaviour at each step of one run and the path; the path
    length against the number of obstacles; the behaviour mix; an animation (GIF).
 
-It writes DIR/report.md and the PNG/GIF files. Same seed, same numbers (CPU times aside).
+It writes DIR/report.md (template ``templates/karim2014.md``) and the PNG/GIF files. Same seed,
+same numbers (CPU times aside). :func:`ladder` runs the ladder alone (the docs page's table).
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -27,10 +29,13 @@ from typing import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmpath.bench.formatting import fmt, pct, render, table
+from swarmpath.bench.ladder import Rung, ladder_table, run_ladder
+from swarmpath.bench.progress import Progress
+from swarmpath.bench.runner import run_batch as common_run_batch
 from swarmpath.control.fish_swarm import FishSwarmController
 from swarmpath.metrics.paths import executed_lengths
 from swarmpath.registry import register_reproduction
-from swarmpath.sim.simulator import Simulator
 from swarmpath.sim.trajectory import ALL_REACHED, Trajectory
 from swarmpath.world import World, load_scenario
 from swarmpath.world.moving import MovingObstacle, RandomWalk, Redraw
@@ -56,18 +61,20 @@ VARIANTS: dict[str, Callable[[], FishSwarmController]] = {
 }
 
 
-def karim_world(n_obstacles: int = 10, motion: str = "redraw") -> World:
+def karim_world(n_obstacles: int = 10, motion: str = "redraw", avoid_robots: bool = True) -> World:
     """The ``karim2014`` world with ``n_obstacles`` one-cell obstacles moving by ``motion``
     (``"redraw"``, the paper's, or ``"random-walk"``). The first 10 start where the scenario
     puts them, the others at fixed cells in a fixed shuffled order (start positions only matter
-    at step 0 for redraw obstacles). At most 98 obstacles (every cell but start and goal)."""
+    at step 0 for redraw obstacles). At most 98 obstacles (every cell but start and goal).
+    ``avoid_robots=False`` gives the paper's uniform redraw (``Redraw(avoid_robots=False)``:
+    obstacles may land on the robot's cell and goal)."""
     base = load_scenario("karim2014")
     if motion not in ("redraw", "random-walk"):
         raise ValueError(f"motion must be 'redraw' or 'random-walk', got {motion!r}")
-    if (n_obstacles, motion) == (10, "redraw"):
+    if (n_obstacles, motion, avoid_robots) == (10, "redraw", True):
         return base
     grid = base.grid()
-    model = Redraw() if motion == "redraw" else RandomWalk()
+    model = Redraw(avoid_robots=avoid_robots) if motion == "redraw" else RandomWalk()
     keep = {tuple(grid.cell_of(np.asarray(p, float)).tolist()) for r in base.robots for p in (r.start, r.goal)}
     if motion == "random-walk":   # walkers must not start next to the robot: they could step onto it
         sx, sy = grid.cell_of(np.asarray(base.robots[0].start, float))
@@ -85,7 +92,7 @@ def karim_world(n_obstacles: int = 10, motion: str = "redraw") -> World:
         raise ValueError(f"at most {len(starts)} obstacles fit, asked for {n_obstacles}")
     shape = Rect((-0.5, -0.5), (0.5, 0.5))
     obstacles = tuple(MovingObstacle(f"o{k + 1}", shape, starts[k], (0.0, 0.0), model) for k in range(n_obstacles))
-    name = "karim2014" if (n_obstacles, motion) == (10, "redraw") else f"karim2014-{motion}-{n_obstacles}"
+    name = f"karim2014-{motion}-{n_obstacles}" + ("" if avoid_robots else "-paper")
     return base.replace(moving_obstacles=obstacles, name=name)
 
 
@@ -122,6 +129,12 @@ class BatchStats:
     def success_rate(self) -> float:
         return float(np.mean([s == ALL_REACHED for s in self.status])) if self.status else 0.0
 
+    @property
+    def safe_success_rate(self) -> float:
+        """Share of runs that ended on the goal without any contact (``RunSummary.success``)."""
+        ok = [st == ALL_REACHED and c == 0 for st, c in zip(self.status, self.contacts)]
+        return float(np.mean(ok)) if ok else 0.0
+
     def stat(self, name: str) -> float:
         """mean / median / std / min / max of the steps of the runs that arrived (nan if none)."""
         r = self.reached
@@ -139,35 +152,108 @@ class BatchStats:
         return {k: v / total for k, v in sorted(self.modes.items())} if total else {}
 
 
+@dataclass(frozen=True)
+class _Run:
+    status: str
+    steps: float
+    length: float
+    contacts: int
+    waits: int
+    modes: dict[str, int]
+
+
+def _measure(traj: Trajectory, _cpu: float) -> _Run:
+    """One run of the single robot: steps and length if it arrived, contacts, waits, modes."""
+    arrived = traj.status == ALL_REACHED
+    moved = np.any(np.diff(traj.positions[:, 0], axis=0) != 0, axis=1)
+    modes: dict[str, int] = {}
+    if traj.modes is not None:
+        for idx, name in enumerate(traj.mode_names):
+            modes[name] = int(np.count_nonzero(traj.modes[:, 0] == idx))
+    return _Run(traj.status, float(traj.n_steps) if arrived else np.nan,
+                float(executed_lengths(traj.positions)[0]) if arrived else np.nan, len(traj.contacts),
+                int(np.count_nonzero(~moved)), modes)
+
+
 def run_batch(world: World, seeds, make_controller: Callable[[], FishSwarmController], *, label: str = "",
-              progress: Callable[[], None] | None = None, keep: int = 0) -> tuple[BatchStats, list[Trajectory]]:
+              progress: Progress | None = None, keep: int = 0) -> tuple[BatchStats, list[Trajectory]]:
     """Simulate ``world`` once per seed; returns the statistics and the first ``keep``
     trajectories."""
-    seeds = tuple(int(s) for s in seeds)
-    status, steps, lengths, contacts, waits = [], [], [], [], []
+    batch = common_run_batch(world, make_controller, seeds, _measure, label=label, keep=keep, progress=progress)
     modes: dict[str, int] = {}
-    kept: list[Trajectory] = []
-    t0 = time.process_time()
-    for s in seeds:
-        traj = Simulator(world, make_controller(), seed=s).run()
-        status.append(traj.status)
-        arrived = traj.status == ALL_REACHED
-        steps.append(float(traj.n_steps) if arrived else np.nan)
-        lengths.append(float(executed_lengths(traj.positions)[0]) if arrived else np.nan)
-        contacts.append(len(traj.contacts))
-        moved = np.any(np.diff(traj.positions[:, 0], axis=0) != 0, axis=1)
-        waits.append(int(np.count_nonzero(~moved)))
-        if traj.modes is not None:
-            for idx, name in enumerate(traj.mode_names):
-                modes[name] = modes.get(name, 0) + int(np.count_nonzero(traj.modes[:, 0] == idx))
-        if len(kept) < keep:
-            kept.append(traj)
+    for r in batch.records:
+        for name, count in r.modes.items():
+            modes[name] = modes.get(name, 0) + count
+    rec = batch.records
+    stats = BatchStats(label, len(world.moving_obstacles), batch.seeds, tuple(r.status for r in rec),
+                       np.array([r.steps for r in rec], float), np.array([r.length for r in rec], float),
+                       np.array([r.contacts for r in rec], np.int64), np.array([r.waits for r in rec], np.int64),
+                       modes, batch.cpu_s)
+    return stats, list(batch.kept)
+
+
+#: The ladder from the paper's redraw to ours (the fish swarm is the paper's in both).
+def ladder_rungs() -> list[Rung]:
+    """Rung 0: the paper (uniform redraw); rung 1: our redraw, never on a robot's cell or goal."""
+    paper = VARIANTS["paper"]
+    return [Rung("paper: `fish-swarm` (w 3, delta 0.5), uniform redraw", "-", paper,
+                 karim_world(10, avoid_robots=False)),
+            Rung("redraw never on a robot's cell or goal cell (`redraw`, `avoid_robots: true`)",
+                 "an obstacle landing on the robot (unavoidable: obstacles move first) or covering its goal",
+                 paper, karim_world(10))]
+
+
+def ladder(seeds, progress: Progress | None = None) -> list[str]:
+    """Run the ladder over ``seeds`` (10 obstacles) and return its Markdown table."""
+    rungs = ladder_rungs()
+    return ladder_table(rungs, run_ladder(karim_world(10), rungs, seeds, progress=progress))
+
+
+@dataclass(frozen=True)
+class Results:
+    """Every batch of the reproduction (see :func:`run_experiments`)."""
+
+    n1: int
+    n2: int
+    seed: int
+    table1: BatchStats
+    kept: list[Trajectory]
+    table2: dict[str, dict[int, BatchStats]]
+    walks: dict[int, BatchStats]
+    paper_table1: BatchStats
+    paper_table2: dict[int, BatchStats]
+    ladder: list[str]
+
+
+def run_experiments(n1: int, n2: int, seed: int, progress: Progress | None = None) -> Results:
+    """All runs of the report: Tables 1 and 2 with the ablations, random walkers, the paper's
+    redraw and the ladder."""
+    def stage(name: str, runs: int) -> None:
         if progress is not None:
-            progress()
-    stats = BatchStats(label, len(world.moving_obstacles), seeds, tuple(status), np.asarray(steps, float),
-                       np.asarray(lengths, float), np.asarray(contacts, np.int64), np.asarray(waits, np.int64), modes,
-                       time.process_time() - t0)
-    return stats, kept
+            progress.stage(name, runs)
+
+    seeds1, seeds2 = range(seed, seed + n1), range(seed, seed + n2)
+    stage("Table 1: 10 obstacles", n1)
+    t1, kept = run_batch(karim_world(10), seeds1, VARIANTS["paper"], label="paper", progress=progress, keep=n1)
+    table2: dict[str, dict[int, BatchStats]] = {"paper": {}, "prey only": {}, "distance field": {}}
+    stage("Table 2: 10-50 obstacles, three variants", n2 * (2 * len(OBSTACLE_COUNTS) + len(DISTANCE_FIELD_COUNTS)))
+    for n in OBSTACLE_COUNTS:
+        world = karim_world(n)
+        for label in ("paper", "prey only"):
+            table2[label][n], _ = run_batch(world, seeds2, VARIANTS[label], label=label, progress=progress)
+        if n in DISTANCE_FIELD_COUNTS:
+            table2["distance field"][n], _ = run_batch(world, seeds2, VARIANTS["distance field"],
+                                                       label="distance field", progress=progress)
+    stage("random-walk obstacles", n2 * len(RANDOM_WALK_COUNTS))
+    walks = {n: run_batch(karim_world(n, "random-walk"), seeds2, VARIANTS["paper"], label="random walk",
+                          progress=progress)[0] for n in RANDOM_WALK_COUNTS}
+    stage("the paper's uniform redraw, Tables 1 and 2", n1 + n2 * len(OBSTACLE_COUNTS))
+    p1, _ = run_batch(karim_world(10, avoid_robots=False), seeds1, VARIANTS["paper"], label="paper redraw",
+                      progress=progress)
+    p2 = {n: run_batch(karim_world(n, avoid_robots=False), seeds2, VARIANTS["paper"], label="paper redraw",
+                       progress=progress)[0] for n in OBSTACLE_COUNTS}
+    steps = ladder(seeds1, progress)
+    return Results(n1, n2, seed, t1, kept, table2, walks, p1, p2, steps)
 
 
 # ---------------------------------------------------------------------------------- figures
@@ -289,17 +375,103 @@ def figure_histogram(stats: BatchStats, path: Path) -> Path:
 
 
 # ---------------------------------------------------------------------------------- report
-def _fmt(x: float, digits: int = 2) -> str:
-    return "-" if x is None or not np.isfinite(x) else f"{x:.{digits}f}"
-
-
-def _pct(x: float) -> str:
-    return "-" if not np.isfinite(x) else f"{100 * x:.0f}%"
-
-
 def _modes_cell(s: BatchStats) -> str:
     sh = s.mode_shares()
     return " / ".join(f"{100 * sh.get(m, 0.0):.0f}" for m in ("prey", "follow", "swarm", "wait"))
+
+
+def _table1(t1: BatchStats) -> tuple[list[str], list[str]]:
+    runs = table(["run", "paper", "ours (seed)"], [
+        [k + 1, v, f"{fmt(t1.steps[k] if k < t1.n_runs else np.nan, 0)} ({t1.seeds[k] if k < t1.n_runs else '-'})"]
+        for k, v in enumerate(PAPER_TABLE1)])
+    summary = table(["", "paper (4 runs)", "ours"], [
+        ["runs", 4, t1.n_runs],
+        ["success rate", "4/4", pct(t1.success_rate)],
+        ["mean path length", f"{np.mean(PAPER_TABLE1):.2f}", f"{fmt(t1.stat('mean'))} (std {fmt(t1.stat('std'))})"],
+        ["median", f"{np.median(PAPER_TABLE1):.1f}", fmt(t1.stat("median"), 1)],
+        ["min / max", f"{min(PAPER_TABLE1)} / {max(PAPER_TABLE1)}",
+         f"{fmt(t1.stat('min'), 0)} / {fmt(t1.stat('max'), 0)}"],
+        ["runs with 9-11 steps", "4/4", pct(t1.share_within(9, 11))],
+        ["contacts (all runs)", "-", int(t1.contacts.sum())],
+        ["waits (all runs)", "-", int(t1.waits.sum())],
+        ["behaviour shares prey / follow / swarm / wait (%)", "-", _modes_cell(t1)]])
+    return runs, summary
+
+
+def _table2(table2: dict[str, dict[int, BatchStats]]) -> list[str]:
+    rows = []
+    for n in OBSTACLE_COUNTS:
+        s, p = table2["paper"][n], table2["prey only"][n]
+        d = table2["distance field"].get(n)
+        rows.append([n, PAPER_TABLE2[n], f"{fmt(s.stat('mean'))} ({fmt(s.stat('std'))})", fmt(s.stat("median"), 1),
+                     f"{fmt(s.stat('min'), 0)}-{fmt(s.stat('max'), 0)}", pct(s.success_rate),
+                     pct(s.share_within(*PAPER_RANGE)), int(s.contacts.sum()), _modes_cell(s),
+                     fmt(p.stat("mean")), fmt(d.stat("mean")) if d is not None else ""])
+    return table(["obstacles", "paper", "ours mean (std)", "median", "min-max", "success", "in 10-15", "contacts",
+                  "prey/follow/swarm/wait %", "prey only", "distance field"], rows)
+
+
+def _redraw_tables(r: Results) -> tuple[list[str], list[str]]:
+    def cells(s: BatchStats) -> list[str]:
+        return [pct(s.safe_success_rate), pct(s.success_rate), pct(float(np.mean(s.contacts > 0))),
+                fmt(float(np.mean(s.contacts))), fmt(s.stat("mean"))]
+
+    names = ["success (on the goal, no contact)", "on the goal at the end", "runs with a contact",
+             "contacts per run", "mean steps (arrived runs)"]
+    side = table(["", "paper's redraw", "ours"],
+                 [[name, a, b] for name, a, b in zip(names, cells(r.paper_table1), cells(r.table1))])
+    rows = [[n, *cells(r.paper_table2[n]), *cells(r.table2["paper"][n])] for n in OBSTACLE_COUNTS]
+    counts = table(["obstacles", *[f"paper's redraw: {x}" for x in names], *[f"ours: {x}" for x in names]], rows)
+    return side, counts
+
+
+def render_report(r: Results, files: dict[str, Path], animation_note: str) -> str:
+    """The report's Markdown from the runs' statistics (template ``karim2014.md``)."""
+    table2 = r.table2
+    means = {n: table2["paper"][n].stat("mean") for n in OBSTACLE_COUNTS}
+    outside = [n for n, m in means.items() if not (PAPER_RANGE[0] <= m <= PAPER_RANGE[1])]
+    within = [n for n in OBSTACLE_COUNTS
+              if table2["paper"][n].stat("min") <= PAPER_TABLE2[n] <= table2["paper"][n].stat("max")]
+    runs1, summary1 = _table1(r.table1)
+    walks = table(["obstacles", "success", "mean steps", "runs with a contact", "contacts per run"], [
+        [n, pct(s.success_rate), fmt(s.stat("mean")), pct(float(np.mean(s.contacts > 0))),
+         fmt(float(np.mean(s.contacts)))] for n, s in r.walks.items()])
+    side, counts = _redraw_tables(r)
+    anim = f"Animation of the same run: [{files['anim'].name}]({files['anim'].name})" if "anim" in files \
+        else animation_note
+    cpu_tables = sum(s.cpu_s for rows in table2.values() for s in rows.values()) + r.table1.cpu_s
+    return render("karim2014", optimal=OPTIMAL_STEPS, seed=r.seed, n1=r.table1.n_runs, n2=r.n2,
+                  table1_runs=runs1, table1_summary=summary1, hist=files["hist"].name, table2=_table2(table2),
+                  lengths=files["lengths"].name, modes=files["modes"].name,
+                  outside=", ".join(f"{n} obstacles ({means[n]:.2f})" for n in outside) if outside else "none",
+                  within=len(within), n_counts=len(OBSTACLE_COUNTS),
+                  prey_max=f"{max(table2['prey only'][n].stat('mean') for n in OBSTACLE_COUNTS):.2f}",
+                  walks=walks, redraw_side=side, redraw_table=counts, ladder=r.ladder,
+                  example_seed=files["example_seed"], steps=files["steps"].name, anim=anim,
+                  cpu_tables=f"{cpu_tables:.1f}", cpu_walks=f"{sum(s.cpu_s for s in r.walks.values()):.1f}",
+                  cpu_paper=f"{r.paper_table1.cpu_s + sum(s.cpu_s for s in r.paper_table2.values()):.1f}")
+
+
+def write_figures(r: Results, out: Path) -> tuple[dict, str]:
+    """The report's figures; Figure 1 shows the first run with at least two behaviours (the
+    paper's shows prey and follow)."""
+    example = next((t for t in r.kept if t.status == ALL_REACHED and t.modes is not None
+                    and len(set(t.modes[:, 0].tolist())) >= 2), r.kept[0])
+    files: dict = {
+        "steps": figure_steps(example, karim_world(10), out / "karim2014-figure1-steps.png"),
+        "lengths": figure_lengths(r.table2, out / "karim2014-path-length-vs-obstacles.png"),
+        "modes": figure_modes(r.table2["paper"], out / "karim2014-behaviours.png"),
+        "hist": figure_histogram(r.table1, out / "karim2014-table1-histogram.png"),
+        "example_seed": example.seed,
+    }
+    note = ""
+    try:
+        from swarmpath.viz.animation import save_animation
+
+        files["anim"] = save_animation(example, out / "karim2014-run.gif", fps=2)
+    except ImportError:  # pragma: no cover - the viz module ships with swarmpath
+        note = "(no animation: swarmpath.viz.animation is not available)"
+    return files, note
 
 
 @register_reproduction("karim2014")
@@ -308,155 +480,14 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
     """Run the experiments and write ``out``/report.md with the figures; returns its path."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    n1 = runs or TABLE1_RUNS
-    n2 = runs or TABLE2_RUNS
-    total = (n1 + n2 * (2 * len(OBSTACLE_COUNTS) + len(DISTANCE_FIELD_COUNTS) + len(RANDOM_WALK_COUNTS)))
-    done = [0]
-
-    def tick() -> None:
-        done[0] += 1
-        if progress is not None:
-            progress(done[0], total)
-
-    seeds1 = range(seed, seed + n1)
-    seeds2 = range(seed, seed + n2)
-    t1, kept = run_batch(karim_world(10), seeds1, VARIANTS["paper"], label="paper", progress=tick, keep=n1)
-    table2: dict[str, dict[int, BatchStats]] = {"paper": {}, "prey only": {}, "distance field": {}}
-    for n in OBSTACLE_COUNTS:
-        world = karim_world(n)
-        for label in ("paper", "prey only"):
-            table2[label][n], _ = run_batch(world, seeds2, VARIANTS[label], label=label, progress=tick)
-        if n in DISTANCE_FIELD_COUNTS:
-            table2["distance field"][n], _ = run_batch(world, seeds2, VARIANTS["distance field"],
-                                                       label="distance field", progress=tick)
-    walks: dict[int, BatchStats] = {}
-    for n in RANDOM_WALK_COUNTS:
-        walks[n], _ = run_batch(karim_world(n, "random-walk"), seeds2, VARIANTS["paper"], label="random walk",
-                                progress=tick)
-
-    # Figure 1: the first run that shows at least two behaviours (the paper's shows prey and follow).
-    example = next((t for t in kept if t.status == ALL_REACHED and t.modes is not None
-                    and len(set(t.modes[:, 0].tolist())) >= 2), kept[0])
-    files = {
-        "steps": figure_steps(example, karim_world(10), out / "karim2014-figure1-steps.png"),
-        "lengths": figure_lengths(table2, out / "karim2014-path-length-vs-obstacles.png"),
-        "modes": figure_modes(table2["paper"], out / "karim2014-behaviours.png"),
-        "hist": figure_histogram(t1, out / "karim2014-table1-histogram.png"),
-    }
-    animation_note = ""
-    try:
-        from swarmpath.viz.animation import save_animation
-
-        files["anim"] = save_animation(example, out / "karim2014-run.gif", fps=2)
-    except ImportError:  # pragma: no cover - the viz module ships with swarmpath
-        animation_note = "(no animation: swarmpath.viz.animation is not available)"
-
-    lines = [
-        "# Karim 2014: artificial fish swarm among moving obstacles — reproduction",
-        "",
-        "World `karim2014`: 10x10 grid, robot from the paper's cell (1,1) to (10,10) (our cells (0,0) and",
-        "(9,9)), one-cell obstacles redrawn at random free cells every step (never on the robot's cell or",
-        "its goal), controller `fish-swarm` with w = 3, delta = 0.5, Euclidean food, visual range = the",
-        "8-neighbourhood. Path length = number of steps (moves, waits included) until the robot is on",
-        f"the goal; the shortest possible is {OPTIMAL_STEPS}. Seeds {seed}..; the simulator's own checker",
-        "counts contacts. Interpretations: docs/papers/karim-2014.md.",
-        "",
-        f"## Table 1: 10 obstacles, {t1.n_runs} runs",
-        "",
-        "| run | paper | ours (seed) |",
-        "|---|---|---|",
-    ]
-    for k, v in enumerate(PAPER_TABLE1):
-        ours = t1.steps[k] if k < t1.n_runs else np.nan
-        lines.append(f"| {k + 1} | {v} | {_fmt(ours, 0)} ({t1.seeds[k] if k < t1.n_runs else '-'}) |")
-    lines += [
-        "",
-        "| | paper (4 runs) | ours |",
-        "|---|---|---|",
-        f"| runs | 4 | {t1.n_runs} |",
-        f"| success rate | 4/4 | {_pct(t1.success_rate)} |",
-        f"| mean path length | {np.mean(PAPER_TABLE1):.2f} | {_fmt(t1.stat('mean'))} (std {_fmt(t1.stat('std'))}) |",
-        f"| median | {np.median(PAPER_TABLE1):.1f} | {_fmt(t1.stat('median'), 1)} |",
-        f"| min / max | {min(PAPER_TABLE1)} / {max(PAPER_TABLE1)} | {_fmt(t1.stat('min'), 0)} / "
-        f"{_fmt(t1.stat('max'), 0)} |",
-        f"| runs with 9-11 steps | 4/4 | {_pct(t1.share_within(9, 11))} |",
-        f"| contacts (all runs) | - | {int(t1.contacts.sum())} |",
-        f"| waits (all runs) | - | {int(t1.waits.sum())} |",
-        f"| behaviour shares prey / follow / swarm / wait (%) | - | {_modes_cell(t1)} |",
-        "",
-        f"![histogram]({files['hist'].name})",
-        "",
-        f"## Table 2: 10 to 50 obstacles, {n2} runs each",
-        "",
-        "Paper: one value per count. Ours: mean (std), median, min-max, success, share of runs within the",
-        "paper's range 10-15, contacts, behaviour shares (prey / follow / swarm / wait, % of steps); then",
-        "the ablations' means: prey only (delta = 0) and distance-field food.",
-        "",
-        "| obstacles | paper | ours mean (std) | median | min-max | success | in 10-15 | contacts | "
-        "prey/follow/swarm/wait % | prey only | distance field |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for n in OBSTACLE_COUNTS:
-        s, p = table2["paper"][n], table2["prey only"][n]
-        d = table2["distance field"].get(n)
-        lines.append(
-            f"| {n} | {PAPER_TABLE2[n]} | {_fmt(s.stat('mean'))} ({_fmt(s.stat('std'))}) | "
-            f"{_fmt(s.stat('median'), 1)} | "
-            f"{_fmt(s.stat('min'), 0)}-{_fmt(s.stat('max'), 0)} | {_pct(s.success_rate)} | "
-            f"{_pct(s.share_within(*PAPER_RANGE))} | {int(s.contacts.sum())} | {_modes_cell(s)} | "
-            f"{_fmt(p.stat('mean'))} | {_fmt(d.stat('mean')) if d is not None else ''} |")
-    means = {n: table2["paper"][n].stat("mean") for n in OBSTACLE_COUNTS}
-    outside = [n for n, m in means.items() if not (PAPER_RANGE[0] <= m <= PAPER_RANGE[1])]
-    lines += [
-        "",
-        f"![path length]({files['lengths'].name})",
-        "",
-        f"![behaviours]({files['modes'].name})",
-        "",
-    ]
-    within = [n for n in OBSTACLE_COUNTS
-              if table2["paper"][n].stat("min") <= PAPER_TABLE2[n] <= table2["paper"][n].stat("max")]
-    prey_max = max(table2["prey only"][n].stat("mean") for n in OBSTACLE_COUNTS)
-    lines += [
-        "Means outside the paper's range 10-15: "
-        + (", ".join(f"{n} obstacles ({means[n]:.2f})" for n in outside) if outside else "none") + ".",
-        f"The paper's single value per count lies within our min-max range for {len(within)} of "
-        f"{len(OBSTACLE_COUNTS)} counts.",
-        "Why the mean grows with the number of obstacles: they fill a growing share of the robot's 8",
-        "neighbours (n of 98 free cells), so the robot sees nf >= w = 3 fish more often and swarms: it",
-        "moves to the improving neighbour nearest to the centre of the visible fish, not to the best one,",
-        "and from 20 obstacles on the crowd test nf/n < 0.5 always passes (nf <= 8). With 10 obstacles",
-        "the robot mostly preys and the mean is close to the paper's runs. Prey only (delta = 0, the",
-        f"greedy move) keeps every mean at or below {prey_max:.2f}: blocked neighbours alone cost that much;",
-        "the rest is the swarm behaviour the paper prescribes. See docs/papers/karim-2014.md.",
-        "",
-    ]
-    lines += [
-        f"## Not in the paper: random-walk obstacles, {n2} runs each",
-        "",
-        "Obstacles step to a random neighbouring cell each step and may step onto the robot; the robot keeps",
-        "out of their one-step reach when it can, else takes the cell fewest of them can reach.",
-        "",
-        "| obstacles | success | mean steps | runs with a contact | contacts per run |",
-        "|---|---|---|---|---|",
-    ]
-    for n, s in walks.items():
-        lines.append(f"| {n} | {_pct(s.success_rate)} | {_fmt(s.stat('mean'))} | "
-                     f"{_pct(float(np.mean(s.contacts > 0)))} | {_fmt(float(np.mean(s.contacts)))} |")
-    anim = f"Animation of the same run: [{files['anim'].name}]({files['anim'].name})" if "anim" in files \
-        else animation_note
-    lines += [
-        "",
-        f"## Figure 1: behaviour at each step (seed {example.seed})",
-        "",
-        f"![figure 1]({files['steps'].name})",
-        "",
-        anim,
-        "",
-        f"CPU time: {sum(s.cpu_s for rows in table2.values() for s in rows.values()) + t1.cpu_s:.1f} s "
-        f"(tables 1-2), {sum(s.cpu_s for s in walks.values()):.1f} s (random walk).",
-        "",
-    ]
+    n1, n2 = runs or TABLE1_RUNS, runs or TABLE2_RUNS
+    total = (2 * n1 + n2 * (2 * len(OBSTACLE_COUNTS) + len(DISTANCE_FIELD_COUNTS) + len(RANDOM_WALK_COUNTS))
+             + n1 + n2 * len(OBSTACLE_COUNTS) + n1)
+    bar = Progress("karim2014", total, progress)
+    results = run_experiments(n1, n2, seed, bar)
+    bar.stage("figures and report")
+    files, note = write_figures(results, out)
     report = out / "report.md"
-    report.write_text("\n".join(lines), encoding="utf-8")
+    report.write_text(render_report(results, files, note), encoding="utf-8")
+    bar.finish()
     return report

@@ -9,12 +9,16 @@ n of ``prediction2013-14``), ``runs`` seeds (10 by default, the paper's k) of:
 2. UTD vs steps for several robot speeds (Figures 17 and 18), 6 robots;
 3. steps and collisions with vs without prediction on the same seeds (Figure 19), for every
    robot count and both positions, plus two ablations at even robot counts: prediction with
-   the paper's terms only (no turn guard, no path buffer) and no prediction with a fixed
-   safety margin of one obstacle step;
-4. APD: path length among the obstacles minus path length without any obstacle (same seeds).
+   hard constraints but no turn guard or path buffer, and no prediction with a fixed safety
+   margin of one obstacle step;
+4. APD: path length among the obstacles minus path length without any obstacle (same seeds);
+5. with vs without prediction inside the paper's own objective (``pso-predictive-paper`` vs
+   ``pso-reactive-paper``) for every robot count and both positions, next to ours, and the
+   ablation ladder from ``pso-predictive-paper`` to ``pso-predictive`` (:func:`ladder`).
 
-It writes DIR/report.md with the tables and the paper's claims beside ours, and PNG figures.
-Same seed, same numbers (CPU times aside).
+It writes DIR/report.md (templates ``prediction2013.md``, ``prediction2013-start.md``) with the
+tables and the paper's claims beside ours, and PNG figures. Same seed, same numbers (CPU times
+aside).
 """
 from __future__ import annotations
 
@@ -26,12 +30,18 @@ from typing import Callable
 
 import numpy as np
 
-from swarmpath.control.pso_predictive import PredictivePSOController, ReactivePSOController
+from swarmpath.bench.formatting import fmt, render, table
+from swarmpath.bench.ladder import Rung, ladder_table, merge_outcomes, run_ladder
+from swarmpath.bench.progress import Progress
+from swarmpath.bench.runner import run_batch
+from swarmpath.bench.stats import mean, paired_counts
+from swarmpath.control.pso_predictive import (PaperPredictivePSOController, PaperReactivePSOController,
+                                              PredictivePSOController, ReactivePSOController, Weights)
 from swarmpath.metrics.paths import executed_lengths
 from swarmpath.metrics.utd import average_path_deviation, steps_to_reach_goals, uncovered_target_distance
 from swarmpath.registry import register_reproduction
 from swarmpath.sim.simulator import Simulator
-from swarmpath.sim.trajectory import ALL_REACHED
+from swarmpath.sim.trajectory import ALL_REACHED, Trajectory
 from swarmpath.world import World, load_scenario
 
 PAPER_RUNS = 10
@@ -49,8 +59,14 @@ CONTROLLERS: dict[str, Callable[[], object]] = {
     "with prediction": PredictivePSOController,
     "without prediction": ReactivePSOController,
 }
+#: The paper's objective alone, with and without prediction.
+PAPER_CONTROLLERS: dict[str, Callable[[], object]] = {
+    "paper, with prediction": PaperPredictivePSOController,
+    "paper, without prediction": PaperReactivePSOController,
+}
 ABLATIONS: dict[str, Callable[[], object]] = {
-    "prediction, paper terms only": lambda: PredictivePSOController(turn_guard="never", buffer_steps=0),
+    "prediction with hard constraints, no turn guard or buffer":
+        lambda: PredictivePSOController(turn_guard="never", buffer_steps=0),
     "no prediction, margin of one obstacle step": lambda: ReactivePSOController(obstacle_margin=0.05 + 0.25),
 }
 
@@ -89,11 +105,8 @@ def paper_world(n_robots: int, figure: str = "fig15", speed: float | None = None
     return world
 
 
-def run_once(world: World, make_controller: Callable[[], object], seed: int) -> RunRecord:
+def measure(traj: Trajectory, cpu: float) -> RunRecord:
     """One seeded simulation, summarised."""
-    t0 = time.process_time()
-    traj = Simulator(world, make_controller(), seed=seed).run()
-    cpu = time.process_time() - t0
     kinds = [c.kind for c in traj.contacts]
     reached = traj.status == ALL_REACHED
     steps = steps_to_reach_goals(traj.positions, traj.goals) if reached else None
@@ -104,53 +117,33 @@ def run_once(world: World, make_controller: Callable[[], object], seed: int) -> 
                      length=float(executed_lengths(traj.positions).sum()), positions=traj.positions, cpu_s=cpu)
 
 
-class _Counter:
-    def __init__(self, total: int, progress: Callable[[int, int], None] | None):
-        self.done, self.total, self.progress = 0, total, progress
-
-    def tick(self) -> None:
-        self.done += 1
-        if self.progress is not None:
-            self.progress(self.done, self.total)
+def run_once(world: World, make_controller: Callable[[], object], seed: int) -> RunRecord:
+    """One seeded simulation, summarised."""
+    return _runs(world, make_controller, range(seed, seed + 1), None)[0]
 
 
-def _runs(world: World, factory, seeds: range, counter: _Counter) -> list[RunRecord]:
-    out = []
-    for s in seeds:
-        out.append(run_once(world, factory, s))
-        counter.tick()
-    return out
-
-
-def _mean(values) -> float:
-    v = np.asarray(list(values), float)
-    return float(v.mean()) if v.size else float("nan")
+def _runs(world: World, factory, seeds: range, progress: Progress | None) -> list[RunRecord]:
+    return list(run_batch(world, factory, seeds, measure, progress=progress).records)
 
 
 def _summary(records: list[RunRecord]) -> dict:
     ok = [r for r in records if r.reached]
     return {
         "reached": sum(r.reached for r in records), "runs": len(records),
-        "steps": _mean(r.steps for r in ok), "steps_all": _mean(r.steps for r in records),
-        "collisions": _mean(r.collisions for r in records),
-        "moving": _mean(r.moving_collisions for r in records),
-        "robot": _mean(r.robot_collisions for r in records),
-        "static": _mean(r.static_collisions for r in records),
+        "steps": mean(r.steps for r in ok), "steps_all": mean(r.steps for r in records),
+        "collisions": mean(r.collisions for r in records),
+        "moving": mean(r.moving_collisions for r in records),
+        "robot": mean(r.robot_collisions for r in records),
+        "static": mean(r.static_collisions for r in records),
         "runs_with_collision": sum(r.collisions > 0 for r in records),
-        "cpu": _mean(r.cpu_s for r in records),
+        "cpu": mean(r.cpu_s for r in records),
     }
 
 
 def _paired_steps(a: list[RunRecord], b: list[RunRecord]) -> tuple[int, int, int]:
     """Seeds where a needed fewer / as many / more steps than b (both runs reached)."""
-    fewer = same = more = 0
-    for x, y in zip(a, b):
-        if not (x.reached and y.reached):
-            continue
-        fewer += x.steps < y.steps
-        same += x.steps == y.steps
-        more += x.steps > y.steps
-    return fewer, same, more
+    both = [(x.steps, y.steps) for x, y in zip(a, b) if x.reached and y.reached]
+    return paired_counts([x for x, _ in both], [y for _, y in both])
 
 
 # ------------------------------------------------------------------------------ figures
@@ -188,9 +181,124 @@ def _example_figure(world: World, seed: int, path: Path) -> None:
     save_figure(fig, path, dpi=100)
 
 
-# ------------------------------------------------------------------------------ the report
-def _fmt(v: float, digits: int = 1) -> str:
-    return "n/a" if not np.isfinite(v) else f"{v:.{digits}f}"
+# ------------------------------------------------------------------------------ runs
+def ladder_rungs() -> list[Rung]:
+    """From ``pso-predictive-paper`` to ``pso-predictive``, one addition a rung (rung 1: our
+    soft formulation, which has no switch of its own; then ``pso-predictive``'s switches)."""
+    off = {"turn_guard": "never", "buffer_steps": 0, "yield_reach": 0.0, "stuck_steps": 0}
+
+    def ours(weights: Weights | None = None, **kw):
+        return lambda: PredictivePSOController(weights=weights, **{**off, **kw})
+
+    soft = Weights(hard=0.0)
+    return [
+        Rung("`pso-predictive-paper`", "-", PaperPredictivePSOController),
+        Rung("our soft terms (`Weights(hard=0)`, every switch off): a clearance ramp for f_st instead of a "
+             "constant per touching segment, robots decided one after the other by index, one particle "
+             "aimed at the goal, point robots a cell diagonal apart",
+             "no slope toward clearance (a constant penalty); robots choosing the same spot at once", ours(soft)),
+        Rung("hard safety constraints (H = 1000): swept discs, the obstacle's predicted sweep",
+             "contacts that a soft penalty only discourages", ours()),
+        Rung("turn guard (`turn_guard=\"learned\"`)", "an obstacle turning into a robot at its turning step",
+             ours(turn_guard="learned")),
+        Rung("buffer around the predicted path (`buffer_steps=2`)", "robots crowding the obstacle's path and "
+             "getting cornered", ours(turn_guard="learned", buffer_steps=2)),
+        Rung("yielding (`yield_reach=2`)", "a robot pressed by the obstacle with no room because of its "
+             "neighbours", ours(turn_guard="learned", buffer_steps=2, yield_reach=2.0)),
+        Rung("detours (`stuck_steps=10`) = `pso-predictive`", "robots stuck in a local minimum of eq. 3 "
+             "(a flat face, two robots crossing on an obstacle)", PredictivePSOController),
+    ]
+
+
+def ladder(seeds, counts=ABLATION_COUNTS, figure: str = "fig15", progress: Progress | None = None) -> list[str]:
+    """Run the ladder at each robot count in ``counts`` over ``seeds`` (obstacle start
+    ``figure``); the Markdown table, outcomes summed over the counts."""
+    rungs = ladder_rungs()
+    per_count = [run_ladder(paper_world(n, figure), rungs, seeds, progress=progress) for n in counts]
+    merged = [merge_outcomes(o.label, [c[k] for c in per_count]) for k, o in enumerate(per_count[0])]
+    return ladder_table(rungs, merged)
+
+
+@dataclass(frozen=True)
+class Results:
+    """Every batch of the reproduction, keyed as in the report."""
+
+    k: int
+    seeds: range
+    figures: tuple[str, ...]
+    main: dict[tuple[str, str, int], list[RunRecord]]
+    free: dict[int, list[RunRecord]]
+    speed_runs: dict[tuple[str, float], list[RunRecord]]
+    ablation: dict[tuple[str, int], list[RunRecord]]
+    pure: dict[tuple[str, str, int], list[RunRecord]]
+    ladder: list[str]
+    cpu_s: float
+
+
+def n_runs(k: int) -> int:
+    """Runs of the whole reproduction with ``k`` seeds per configuration."""
+    figures = len(OBSTACLE_STARTS_PX)
+    return k * (figures * len(ROBOT_COUNTS) * 2                       # with / without prediction
+                + figures * (len(SPEEDS) - 1)                         # speeds (0.5 is shared)
+                + len(ROBOT_COUNTS)                                   # obstacle-free runs (APD)
+                + len(ABLATIONS) * len(ABLATION_COUNTS)
+                + figures * len(ROBOT_COUNTS) * 2                     # the paper's objective
+                + len(ladder_rungs()) * len(ABLATION_COUNTS))
+
+
+def run_experiments(k: int, seed: int, progress: Progress | None = None) -> Results:
+    """All runs of the report."""
+    def stage(name: str, runs: int) -> None:
+        if progress is not None:
+            progress.stage(name, runs)
+
+    seeds = range(seed, seed + k)
+    figures = tuple(OBSTACLE_STARTS_PX)
+    t_start = time.process_time()
+    main: dict[tuple[str, str, int], list[RunRecord]] = {}
+    stage("pso-predictive and pso-reactive, 2..14 robots, both starts", k * len(figures) * len(ROBOT_COUNTS) * 2)
+    for fig in figures:
+        for n in ROBOT_COUNTS:
+            world = paper_world(n, fig)
+            for label, factory in CONTROLLERS.items():
+                main[(label, fig, n)] = _runs(world, factory, seeds, progress)
+    stage("obstacle-free runs (APD)", k * len(ROBOT_COUNTS))
+    free = {n: _runs(paper_world(n, obstacles=False), PredictivePSOController, seeds, progress) for n in ROBOT_COUNTS}
+    speed_runs: dict[tuple[str, float], list[RunRecord]] = {}
+    stage("robot speeds", k * len(figures) * (len(SPEEDS) - 1))
+    for fig in figures:
+        for v in SPEEDS:
+            if v == 0.5:
+                speed_runs[(fig, v)] = main[("with prediction", fig, SPEED_ROBOTS)]
+            else:
+                speed_runs[(fig, v)] = _runs(paper_world(SPEED_ROBOTS, fig, speed=v), PredictivePSOController, seeds,
+                                             progress)
+    stage("ablations", k * len(ABLATIONS) * len(ABLATION_COUNTS))
+    ablation = {(label, n): _runs(paper_world(n, "fig15"), factory, seeds, progress)
+                for label, factory in ABLATIONS.items() for n in ABLATION_COUNTS}
+    cpu_total = time.process_time() - t_start
+    stage("the paper's objective with and without prediction", k * len(figures) * len(ROBOT_COUNTS) * 2)
+    pure = {(label, fig, n): _runs(paper_world(n, fig), factory, seeds, progress)
+            for fig in figures for n in ROBOT_COUNTS for label, factory in PAPER_CONTROLLERS.items()}
+    steps = ladder(seeds, progress=progress)
+    return Results(k, seeds, figures, main, free, speed_runs, ablation, pure, steps, cpu_total)
+
+
+def write_figures(r: Results, out: Path, seed: int) -> None:
+    """Figures 15-19 in kind and one example run."""
+    fig_no = {"fig15": (15, 17), "fig16": (16, 18)}
+    for fig in r.figures:
+        start = paper_world(2, fig).moving_obstacles[0].start
+        curves = {f"{n}": [x.utd for x in r.main[("with prediction", fig, n)]] for n in ROBOT_COUNTS}
+        _utd_figure(curves, f"Figure {fig_no[fig][0]}: AUTD vs steps, obstacle starts at {start}", "robots",
+                    out / f"utd_robots_{fig}.png")
+        curves = {f"{v:g}": [x.utd for x in r.speed_runs[(fig, v)]] for v in SPEEDS}
+        _utd_figure(curves, f"Figure {fig_no[fig][1]}: AUTD vs steps, {SPEED_ROBOTS} robots, obstacle at {start}",
+                    "robot speed", out / f"utd_speed_{fig}.png")
+        _bars_figure(list(ROBOT_COUNTS), {n: _summary(r.main[("with prediction", fig, n)]) for n in ROBOT_COUNTS},
+                     {n: _summary(r.main[("without prediction", fig, n)]) for n in ROBOT_COUNTS}, fig,
+                     out / f"prediction_bars_{fig}.png")
+    _example_figure(paper_world(10, "fig15"), seed, out / "example_run.png")
 
 
 @register_reproduction("prediction2013")
@@ -200,53 +308,19 @@ def reproduce(out: Path, *, runs: int | None = None, seed: int = 0,
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     k = runs or PAPER_RUNS
-    seeds = range(seed, seed + k)
-    figures = tuple(OBSTACLE_STARTS_PX)
-    total = k * (len(figures) * len(ROBOT_COUNTS) * 2                       # with / without prediction
-                 + len(figures) * (len(SPEEDS) - 1)                         # speeds (0.5 is shared)
-                 + len(ROBOT_COUNTS)                                        # obstacle-free runs (APD)
-                 + len(ABLATIONS) * len(ABLATION_COUNTS))
-    counter = _Counter(total, progress)
-    t_start = time.process_time()
-
-    main: dict[tuple[str, str, int], list[RunRecord]] = {}
-    for fig in figures:
-        for n in ROBOT_COUNTS:
-            world = paper_world(n, fig)
-            for label, factory in CONTROLLERS.items():
-                main[(label, fig, n)] = _runs(world, factory, seeds, counter)
-    free = {n: _runs(paper_world(n, obstacles=False), PredictivePSOController, seeds, counter) for n in ROBOT_COUNTS}
-    speed_runs: dict[tuple[str, float], list[RunRecord]] = {}
-    for fig in figures:
-        for v in SPEEDS:
-            if v == 0.5:
-                speed_runs[(fig, v)] = main[("with prediction", fig, SPEED_ROBOTS)]
-            else:
-                speed_runs[(fig, v)] = _runs(paper_world(SPEED_ROBOTS, fig, speed=v), PredictivePSOController, seeds,
-                                             counter)
-    ablation = {(label, n): _runs(paper_world(n, "fig15"), factory, seeds, counter)
-                for label, factory in ABLATIONS.items() for n in ABLATION_COUNTS}
-    cpu_total = time.process_time() - t_start
-
-    # figures
-    fig_no = {"fig15": (15, 17), "fig16": (16, 18)}
-    for fig in figures:
-        start = paper_world(2, fig).moving_obstacles[0].start
-        curves = {f"{n}": [r.utd for r in main[("with prediction", fig, n)]] for n in ROBOT_COUNTS}
-        _utd_figure(curves, f"Figure {fig_no[fig][0]}: AUTD vs steps, obstacle starts at {start}", "robots",
-                    out / f"utd_robots_{fig}.png")
-        curves = {f"{v:g}": [r.utd for r in speed_runs[(fig, v)]] for v in SPEEDS}
-        _utd_figure(curves, f"Figure {fig_no[fig][1]}: AUTD vs steps, {SPEED_ROBOTS} robots, obstacle at {start}",
-                    "robot speed", out / f"utd_speed_{fig}.png")
-        _bars_figure(list(ROBOT_COUNTS), {n: _summary(main[("with prediction", fig, n)]) for n in ROBOT_COUNTS},
-                     {n: _summary(main[("without prediction", fig, n)]) for n in ROBOT_COUNTS}, fig,
-                     out / f"prediction_bars_{fig}.png")
-    _example_figure(paper_world(10, "fig15"), seed, out / "example_run.png")
-
-    lines = _report_lines(k, seeds, figures, main, free, speed_runs, ablation, cpu_total)
+    bar = Progress("prediction2013", n_runs(k), progress)
+    results = run_experiments(k, seed, bar)
+    bar.stage("figures and report")
+    write_figures(results, out, seed)
     report = out / "report.md"
-    report.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    report.write_text(render_report(results), encoding="utf-8")
+    bar.finish()
     return report
+
+
+# ------------------------------------------------------------------------------ the report
+def _fmt(v: float, digits: int = 1) -> str:
+    return fmt(v, digits, missing="n/a")
 
 
 def _claims(figures, main, speed_runs) -> list[str]:
@@ -285,70 +359,91 @@ def _claims(figures, main, speed_runs) -> list[str]:
     return out
 
 
-def _report_lines(k, seeds, figures, main, free, speed_runs, ablation, cpu_total) -> list[str]:
-    L: list[str] = []
-    L += ["# Reproduction: multi-robot PSO with linear prediction of a moving obstacle (2013)", "",
-          f"{k} runs (seeds {seeds.start}..{seeds.stop - 1}) per configuration; world `prediction2013` "
-          "(32 x 24 units = the paper's 640 x 480 pixels at 20 px/unit; 5 static discs; one disc obstacle of "
-          "radius 1 moving at 0.25/step that turns to a random heading every 10 steps); robots of radius 0.5, "
-          "speed 0.5/step, the first n of `prediction2013-14`. Collisions are counted by the simulator's own "
-          "checker (one per robot, other object and step). Steps = steps until every robot is at its goal "
-          "(mean over runs that reached; runs that did not are counted in 'reached').",
-          f"CPU time of all runs: {cpu_total:.0f} s.", ""]
-    for fig in figures:
-        start = main[("with prediction", fig, 2)][0]
-        pos = paper_world(2, fig).moving_obstacles[0].start
-        px = OBSTACLE_STARTS_PX[fig]
-        L += [f"## Robots 2..14, obstacle starting at pixel {px} = world {pos} ({fig})", "",
-              "| robots | reached (pred) | steps with prediction | steps without | fewer/same/more steps with pred "
-              "(paired seeds) | collisions/run with | collisions/run without | runs with a collision (with / "
-              "without) | APD with prediction |",
-              "|---:|---:|---:|---:|:---:|---:|---:|:---:|---:|"]
+def _start_section(r: Results, fig: str) -> str:
+    rows = []
+    for n in ROBOT_COUNTS:
+        a, b = r.main[("with prediction", fig, n)], r.main[("without prediction", fig, n)]
+        sa, sb = _summary(a), _summary(b)
+        apd = average_path_deviation([x.positions for x in a], [x.positions for x in r.free[n]])
+        f, s_, m = _paired_steps(a, b)
+        rows.append([n, f"{sa['reached']}/{sa['runs']}", _fmt(sa["steps"]),
+                     f"{_fmt(sb['steps'])} ({sb['reached']}/{sb['runs']} reached)", f"{f}/{s_}/{m}",
+                     _fmt(sa["collisions"], 2), _fmt(sb["collisions"], 2),
+                     f"{sa['runs_with_collision']} / {sb['runs_with_collision']}", _fmt(apd, 2)])
+    tot_a = [x for n in ROBOT_COUNTS for x in r.main[("with prediction", fig, n)]]
+    tot_b = [x for n in ROBOT_COUNTS for x in r.main[("without prediction", fig, n)]]
+    sa, sb = _summary(tot_a), _summary(tot_b)
+    f, s_, m = _paired_steps(tot_a, tot_b)
+    rows.append(["all", f"{sa['reached']}/{sa['runs']}", _fmt(sa["steps"]),
+                 f"{_fmt(sb['steps'])} ({sb['reached']}/{sb['runs']} reached)", f"{f}/{s_}/{m}",
+                 _fmt(sa["collisions"], 2), _fmt(sb["collisions"], 2),
+                 f"{sa['runs_with_collision']} / {sb['runs_with_collision']}", ""])
+    lines = table(["robots", "reached (pred)", "steps with prediction", "steps without",
+                   "fewer/same/more steps with pred (paired seeds)", "collisions/run with", "collisions/run without",
+                   "runs with a collision (with / without)", "APD with prediction"], rows,
+                  ["---:", "---:", "---:", "---:", ":---:", "---:", "---:", ":---:", "---:"])
+    return render("prediction2013-start", px=OBSTACLE_STARTS_PX[fig], pos=paper_world(2, fig).moving_obstacles[0].start,
+                  fig=fig, table=lines, moving=f"{sb['moving'] * sb['runs']:.0f}",
+                  robot=f"{sb['robot'] * sb['runs']:.0f}", static=f"{sb['static'] * sb['runs']:.0f}",
+                  with_total=f"{sa['collisions'] * sa['runs']:.0f}")
+
+
+def _pure_tables(r: Results) -> tuple[list[str], list[str]]:
+    labels = ("paper, with prediction", "paper, without prediction")
+
+    def cell(recs: list[RunRecord]) -> str:
+        sm = _summary(recs)
+        return f"{_fmt(sm['collisions'], 2)} ({sm['runs_with_collision']})"
+
+    rows = []
+    for fig in r.figures:
         for n in ROBOT_COUNTS:
-            a, b = main[("with prediction", fig, n)], main[("without prediction", fig, n)]
-            sa, sb = _summary(a), _summary(b)
-            apd = average_path_deviation([r.positions for r in a], [r.positions for r in free[n]])
-            f, s, m = _paired_steps(a, b)
-            L.append(f"| {n} | {sa['reached']}/{sa['runs']} | {_fmt(sa['steps'])} | {_fmt(sb['steps'])} "
-                     f"({sb['reached']}/{sb['runs']} reached) | {f}/{s}/{m} | {_fmt(sa['collisions'], 2)} | "
-                     f"{_fmt(sb['collisions'], 2)} | {sa['runs_with_collision']} / {sb['runs_with_collision']} | "
-                     f"{_fmt(apd, 2)} |")
-        del start
-        tot_a = [r for n in ROBOT_COUNTS for r in main[("with prediction", fig, n)]]
-        tot_b = [r for n in ROBOT_COUNTS for r in main[("without prediction", fig, n)]]
-        sa, sb = _summary(tot_a), _summary(tot_b)
-        f, s, m = _paired_steps(tot_a, tot_b)
-        L += [f"| all | {sa['reached']}/{sa['runs']} | {_fmt(sa['steps'])} | {_fmt(sb['steps'])} "
-              f"({sb['reached']}/{sb['runs']} reached) | {f}/{s}/{m} | {_fmt(sa['collisions'], 2)} | "
-              f"{_fmt(sb['collisions'], 2)} | {sa['runs_with_collision']} / {sb['runs_with_collision']} | |", "",
-              f"Collisions without prediction by kind (all counts): robot-moving {sb['moving'] * sb['runs']:.0f}, "
-              f"robot-robot {sb['robot'] * sb['runs']:.0f}, robot-static {sb['static'] * sb['runs']:.0f}; "
-              f"with prediction: {sa['collisions'] * sa['runs']:.0f} in total.", "",
-              f"![UTD vs steps, robots]({'utd_robots_' + fig}.png)", "",
-              f"![with vs without prediction]({'prediction_bars_' + fig}.png)", ""]
-    L += [f"## Robot speed ({SPEED_ROBOTS} robots, with prediction)", "",
-          "| obstacle start | " + " | ".join(f"speed {v:g}: steps (reached)" for v in SPEEDS) + " |",
-          "|---|" + "---:|" * len(SPEEDS)]
-    for fig in figures:
-        cells = []
-        for v in SPEEDS:
-            sm = _summary(speed_runs[(fig, v)])
-            cells.append(f"{_fmt(sm['steps'])} ({sm['reached']}/{sm['runs']}, {_fmt(sm['collisions'], 2)} coll.)")
-        L.append(f"| {fig} | " + " | ".join(cells) + " |")
-    L += ["", "![UTD vs steps, speeds, fig15](utd_speed_fig15.png)", "",
-          "![UTD vs steps, speeds, fig16](utd_speed_fig16.png)", ""]
-    L += ["## Ablations (obstacle start fig15)", "",
-          "| robots | " + " | ".join(f"{lab}: steps / collisions per run / reached"
-                                     for lab in ("with prediction", "without prediction", *ABLATIONS)) + " |",
-          "|---:|" + "---|" * (2 + len(ABLATIONS))]
+            rows.append([fig, n, *(cell(r.pure[(lab, fig, n)]) for lab in labels),
+                         *(cell(r.main[(lab, fig, n)]) for lab in CONTROLLERS)])
+    lines = table(["start", "robots", "paper's objective, with prediction", "paper's objective, without",
+                   "ours (`pso-predictive`)", "ours without (`pso-reactive`)"], rows,
+                  ["---", "---:", "---:", "---:", "---:", "---:"])
+
+    def totals(recs: list[RunRecord]) -> list[str]:
+        sm = _summary(recs)
+        n = sm["runs"]
+        return [f"{sm['reached']}/{n}", f"{sum(x.collisions for x in recs)} in {sm['runs_with_collision']}/{n}",
+                f"{sum(x.moving_collisions for x in recs)}", f"{sum(x.robot_collisions for x in recs)}",
+                f"{sum(x.static_collisions for x in recs)}", _fmt(sm["steps"])]
+
+    groups = {
+        "`pso-predictive-paper`": [x for key, v in r.pure.items() if key[0] == labels[0] for x in v],
+        "`pso-reactive-paper`": [x for key, v in r.pure.items() if key[0] == labels[1] for x in v],
+        "`pso-predictive`": [x for key, v in r.main.items() if key[0] == "with prediction" for x in v],
+        "`pso-reactive`": [x for key, v in r.main.items() if key[0] == "without prediction" for x in v],
+    }
+    head = ["every robot at its goal", "contacts in runs", "robot-moving", "robot-robot", "robot-static",
+            "steps (mean, runs that reached)"]
+    tot = table(["all robot counts, both starts", *groups],
+                [[h, *(totals(v)[k] for v in groups.values())] for k, h in enumerate(head)])
+    return lines, tot
+
+
+def render_report(r: Results) -> str:
+    """The report's Markdown from the runs (templates ``prediction2013*.md``)."""
+    speed = table(["obstacle start", *(f"speed {v:g}: steps (reached)" for v in SPEEDS)], [
+        [fig, *(f"{_fmt(sm['steps'])} ({sm['reached']}/{sm['runs']}, {_fmt(sm['collisions'], 2)} coll.)"
+                for sm in (_summary(r.speed_runs[(fig, v)]) for v in SPEEDS))] for fig in r.figures],
+        ["---", *["---:"] * len(SPEEDS)])
+    rows = []
     for n in ABLATION_COUNTS:
         cells = []
-        for recs in (main[("with prediction", "fig15", n)], main[("without prediction", "fig15", n)],
-                     *[ablation[(lab, n)] for lab in ABLATIONS]):
+        for recs in (r.main[("with prediction", "fig15", n)], r.main[("without prediction", "fig15", n)],
+                     *[r.ablation[(lab, n)] for lab in ABLATIONS]):
             sm = _summary(recs)
             cells.append(f"{_fmt(sm['steps'])} / {_fmt(sm['collisions'], 2)} / {sm['reached']}/{sm['runs']}")
-        L.append(f"| {n} | " + " | ".join(cells) + " |")
-    L += ["", "## The paper's claims next to ours", ""]
-    L += _claims(figures, main, speed_runs)
-    L += ["", "![one run with prediction, 10 robots](example_run.png)", ""]
-    return L
+        rows.append([n, *cells])
+    ablations = table(["robots", *(f"{lab}: steps / collisions per run / reached"
+                                   for lab in ("with prediction", "without prediction", *ABLATIONS))], rows,
+                      ["---:", *["---"] * (2 + len(ABLATIONS))])
+    pure_table, pure_totals = _pure_tables(r)
+    return render("prediction2013", k=r.k, first=r.seeds.start, last=r.seeds.stop - 1, cpu=f"{r.cpu_s:.0f}",
+                  starts="\n".join(_start_section(r, fig) for fig in r.figures), speed_robots=SPEED_ROBOTS,
+                  speed_table=speed, ablations=ablations, claims=_claims(r.figures, r.main, r.speed_runs),
+                  pure_table=pure_table, pure_totals=pure_totals,
+                  ladder_counts=", ".join(str(n) for n in ABLATION_COUNTS), ladder=r.ladder)

@@ -4,11 +4,16 @@ robot-robot conflicts online with the three principles of Abbas & Abdulsahab, se
 1. each robot first picks its next position aligned with its goal: the point ``max_speed *
    dt`` further along its planned path (:func:`swarmpath.control.path_tracking.advance_along`);
 2. if that move would bring it into conflict with another robot ("more than one robot tries to
-   take the same position"), it turns: it tries a shorter move along its path, then side steps
-   of length ``sidestep`` (the paper's threshold) turned right or left by 45 and 90 degrees
-   from its heading, and takes the free one that leaves it closest to its next path vertex
-   (right wins ties); if none is free it waits;
+   take the same position"), it turns: side steps of length ``sidestep`` (the paper's
+   threshold) turned right or left by 45 and 90 degrees from its heading, the free one that
+   leaves it closest to its next path vertex (right wins ties); if none is free it waits;
 3. otherwise it moves to the aligned position.
+
+``amopso-follow`` (:class:`AMOPSOFollowController`) adds, before the turn of principle 2,
+shorter moves along the path (1/2, 1/4 of the step) and up to ``max_waits`` steps of waiting,
+and keeps ``separation`` of extra room; ``amopso-follow-paper``
+(:mod:`swarmpath.control.amopso_follow_paper`) turns at once and keeps no extra room. Both
+share :class:`PathFollowing`.
 
 Robots decide one after the other each step, the one with the longest remaining route first
 (ties by index). A robot's move is checked against the moves already decided this step and
@@ -85,36 +90,26 @@ def moves_conflict(a: ArrayLike, b: ArrayLike, q0: ArrayLike, q1: ArrayLike, rad
     return bad
 
 
-@register_controller("amopso-follow")
-class AMOPSOFollowController(Controller):
-    """Follow the offline paths; give way by slowing down, side stepping or waiting.
-
-    Parameters
-    ----------
-    sidestep : float, optional
-        Length of a side step (the paper's threshold), world units; default: the robot's
-        largest step ``max_speed * dt``.
-    separation : float
-        Extra distance kept between robots' discs (world units) at every time of a step.
-    """
+class PathFollowing(Controller):
+    """What ``amopso-follow`` and ``amopso-follow-paper`` share: principles 1 and 3 (move
+    along the path, aligned with the goal), the order of decisions, the conflict test and the
+    side step of principle 2. Subclasses say how a robot gives way (:meth:`_give_way`)."""
 
     capabilities = Capabilities(needs_plan=True, continuous=True, multi_robot=True)
 
-    def __init__(self, sidestep: float | None = None, separation: float = 0.25, patience: int = 2):
+    def __init__(self, sidestep: float | None = None, separation: float = 0.25):
+        name = self.registered_name or "amopso-follow"
         positive = isinstance(sidestep, (int, float)) and sidestep > 0 and math.isfinite(sidestep)
         if sidestep is not None and not positive:
-            raise ConfigError(f"amopso-follow: sidestep must be a positive number, got {sidestep!r}")
+            raise ConfigError(f"{name}: sidestep must be a positive number, got {sidestep!r}")
         if not (isinstance(separation, (int, float)) and separation >= 0 and math.isfinite(separation)):
-            raise ConfigError(f"amopso-follow: separation must be a number >= 0, got {separation!r}")
-        if isinstance(patience, bool) or not isinstance(patience, (int, np.integer)) or patience < 0:
-            raise ConfigError(f"amopso-follow: patience must be an integer >= 0, got {patience!r}")
+            raise ConfigError(f"{name}: separation must be a number >= 0, got {separation!r}")
         self.sidestep = sidestep
         self.separation = float(separation)
-        self.patience = int(patience)
 
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         if plan is None:
-            raise ConfigError("controller 'amopso-follow' needs an offline plan (choose a planner)")
+            raise ConfigError(f"controller {self.registered_name!r} needs an offline plan (choose a planner)")
         self.world_ = world
         self.routes_ = [np.asarray(p, float) if p is not None else None for p in plan.paths]
         self.next_ = np.ones(world.n_robots, dtype=np.int64)
@@ -172,17 +167,16 @@ class AMOPSOFollowController(Controller):
 
     def _give_way(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
                   budget: float, events: list[dict]) -> tuple[FloatArray, str]:
-        """Principle 2: a shorter move along the path; else wait, up to ``patience`` steps in a
-        row; else the best side step; else wait."""
+        """Robot i's move when the aligned one conflicts: (position, mode)."""
+        raise NotImplementedError
+
+    def _side_step(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
+                   budget: float, events: list[dict]) -> tuple[FloatArray, str]:
+        """Principle 2's turn: the free side step (45 and 90 degrees right and left of the
+        heading, length ``sidestep``) that ends closest to the next path vertex; the robot
+        then rejoins its path. None free: wait."""
         route = self.routes_[i]
         a = pos[i]
-        for frac in SLOWER:
-            p, k = advance_along(route, a, int(self.next_[i]), budget * frac)
-            if self._free(i, a, p, pos, new, decided):
-                self.next_[i] = k
-                return p, "slow"
-        if self.waited_[i] < self.patience:
-            return a.copy(), "wait"
         heading = aligned - a
         norm = float(np.linalg.norm(heading))
         if norm <= 1e-12:
@@ -206,3 +200,43 @@ class AMOPSOFollowController(Controller):
         self.next_[i] = 1
         events.append({"robot": i, "kind": "sidestep", "detail": f"to {np.round(best, 3).tolist()}"})
         return best, "sidestep"
+
+
+@register_controller("amopso-follow")
+class AMOPSOFollowController(PathFollowing):
+    """Follow the offline paths; give way by slowing down, waiting, or side stepping.
+
+    Parameters
+    ----------
+    sidestep : float, optional
+        Length of a side step (the paper's threshold), world units; default: the robot's
+        largest step ``max_speed * dt``.
+    separation : float
+        Extra distance kept between robots' discs (world units) at every time of a step.
+    max_waits : int
+        When the aligned move and the shorter moves along the path (1/2, 1/4 of the step)
+        all conflict, the robot waits, up to ``max_waits`` steps in a row, before it side
+        steps (2; 0: side step as soon as the shorter moves fail). The paper's rule, a side
+        step at once without shorter moves or a margin, is ``amopso-follow-paper``.
+    """
+
+    def __init__(self, sidestep: float | None = None, separation: float = 0.25, max_waits: int = 2):
+        super().__init__(sidestep, separation)
+        if isinstance(max_waits, bool) or not isinstance(max_waits, (int, np.integer)) or max_waits < 0:
+            raise ConfigError(f"amopso-follow: max_waits must be an integer >= 0, got {max_waits!r}")
+        self.max_waits = int(max_waits)
+
+    def _give_way(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
+                  budget: float, events: list[dict]) -> tuple[FloatArray, str]:
+        """A shorter move along the path; else wait, up to ``max_waits`` steps in a row; else
+        the best side step (principle 2); else wait."""
+        route = self.routes_[i]
+        a = pos[i]
+        for frac in SLOWER:
+            p, k = advance_along(route, a, int(self.next_[i]), budget * frac)
+            if self._free(i, a, p, pos, new, decided):
+                self.next_[i] = k
+                return p, "slow"
+        if self.waited_[i] < self.max_waits:
+            return a.copy(), "wait"
+        return self._side_step(i, pos, new, decided, aligned, budget, events)

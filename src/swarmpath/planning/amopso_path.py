@@ -178,13 +178,17 @@ class AMOPSOPathPlanner(Planner):
         Clearance (world units beyond each zone's radius) the Pareto choice rule requires.
     archive_size : int
         Largest Pareto archive.
+    mutation_rate : float
+        Fraction of the run during which Coello's mutation acts (0.2, the MOPSO default; 0
+        switches it off, as in the paper's MOPSO of Figure 2).
     """
 
     capabilities = Capabilities(continuous=True, multi_robot=False, randomized=True, multi_objective=True)
 
     def __init__(self, update: str = "amopso4", mode: str = "pareto", weights: Sequence[float] | None = None,
                  waypoints: int = 4, particles: int = 30, iterations: int = 120, init: str = "astar",
-                 danger_objective: str = "inverse-sum", danger_margin: float = 0.0, archive_size: int = 100):
+                 danger_objective: str = "inverse-sum", danger_margin: float = 0.0, archive_size: int = 100,
+                 mutation_rate: float = 0.2):
         self.update = update
         self.mode = mode
         self.weights = None if weights is None else tuple(float(w) for w in weights)
@@ -195,6 +199,7 @@ class AMOPSOPathPlanner(Planner):
         self.danger_objective = danger_objective
         self.danger_margin = danger_margin
         self.archive_size = archive_size
+        self.mutation_rate = mutation_rate
         self._check()
 
     def _check(self) -> None:
@@ -216,95 +221,117 @@ class AMOPSOPathPlanner(Planner):
                 raise ConfigError(f"{owner}: {name} must be an integer >= {low}, got {v!r}")
         if not (isinstance(self.danger_margin, (int, float)) and np.isfinite(self.danger_margin)):
             raise ConfigError(f"{owner}: danger_margin must be a finite number, got {self.danger_margin!r}")
+        if not (isinstance(self.mutation_rate, (int, float)) and 0.0 <= self.mutation_rate <= 1.0):
+            raise ConfigError(f"{owner}: mutation_rate must be a number in [0, 1], got {self.mutation_rate!r}")
 
     def optimizer(self) -> MOPSO:
         """The configured MOPSO (update rule, mode, weights, archive)."""
-        return MOPSO(update=self.update, mode=self.mode, weights=self.weights, archive_size=self.archive_size)
+        return MOPSO(update=self.update, mode=self.mode, weights=self.weights, archive_size=self.archive_size,
+                     mutation_rate=self.mutation_rate)
 
     def params(self) -> dict[str, Any]:
         """The hyperparameters, for reports."""
         return {"update": self.update, "mode": self.mode, "weights": self.weights, "waypoints": self.waypoints,
                 "particles": self.particles, "iterations": self.iterations, "init": self.init,
                 "danger_objective": self.danger_objective, "danger_margin": self.danger_margin,
-                "archive_size": self.archive_size}
+                "archive_size": self.archive_size, "mutation_rate": self.mutation_rate}
 
     def plan(self, world, *, rng: SeedLike = None) -> Plan:
-        t0 = time.perf_counter()
-        robots = tuple(self.plan_robot(world, robot, rng=make_rng(rng, "amopso-path", robot.id))
-                       for robot in world.robots)
-        diag = {"evaluations": sum(int(r.diagnostics.get("evaluations", 0)) for r in robots),
-                "params": self.params(), "choice_rule": CHOICE_RULE if self.mode == "pareto" else "weighted sum"}
-        return Plan("amopso-path", robots, time.perf_counter() - t0, diag)
+        return plan_robots(self, world, rng)
 
     def plan_robot(self, world, robot, *, rng: np.random.Generator) -> RobotPlan:
         """One robot's plan (see the module docstring for statuses and diagnostics)."""
-        t0 = time.perf_counter()
-        r = float(robot.radius)
-        for which, status in (("start", PlanStatus.INVALID_START), ("goal", PlanStatus.INVALID_GOAL)):
-            p = np.asarray(getattr(robot, which), float)
-            where = world.obstacle_at(p, r)
-            if not world.bounds.contains(p, r) or where is not None:
-                reason = f"{which} {p.tolist()} " + (f"lies inside {where}" if where else "leaves the workspace")
-                return RobotPlan(robot.id, status, None, {"reason": reason, "time_s": time.perf_counter() - t0})
-        K = int(self.waypoints)
-        problem = path_problem(world, robot, K, self.danger_objective)
-        diag: dict[str, Any] = {"update": self.update, "mode": self.mode, "waypoints": K}
-        initial = None
-        astar_done = False
-        astar_found = False
-        if self.init == "astar":
-            wps, a_len = astar_initial_path(world, robot, K)
-            astar_done, astar_found = True, wps is not None
-            diag["astar_length"] = a_len
-            if wps is not None:
-                initial = np.clip(encode_waypoints(wps), problem.lower, problem.upper)[None]
-        diag["init"] = "astar" if initial is not None else ("random (no A* path)" if self.init == "astar" else "random")
-        res = self.optimizer().minimize(problem, iterations=self.iterations, particles=self.particles, rng=rng,
-                                        initial=initial)
-        diag.update({"evaluations": res.n_evaluations, "optimizer_time_s": res.wall_time_s})
-        start, goal = np.asarray(robot.start, float), np.asarray(robot.goal, float)
-        centers = np.array([z.center for z in world.danger_zones], float).reshape(-1, 2)
-        radii = np.array([z.radius for z in world.danger_zones], float)
-
-        fx = res.pareto_x if res.pareto_x is not None else res.x[None]
-        paths = decode_paths(fx, start, goal)
-        ok = ~static_collisions(world, paths, r)
-        paths = paths[ok]
-        front_f = np.asarray(res.pareto_f if res.pareto_f is not None else res.objectives[None])[ok]
-        order = np.argsort(path_lengths(paths), kind="stable")
-        paths, front_f = paths[order], front_f[order]
-        lengths = path_lengths(paths)
-        dist = danger_distances(paths, centers)
-        clear = danger_clearance(dist, radii)
-        diag.update({"front_paths": paths, "front_objectives": front_f, "front_lengths": lengths,
-                     "front_danger_distances": dist, "front_clearance": clear})
-
-        if self.mode == "pareto":
-            chosen_path = paths[choose_from_front(lengths, clear, float(self.danger_margin))] if len(paths) else None
-            diag["choice_rule"] = CHOICE_RULE
-        else:
-            best = decode_paths(res.x[None], start, goal)
-            chosen_path = None if static_collisions(world, best, r)[0] else best[0]
-            diag["choice_rule"] = "weighted sum (eq. 13)"
-        if chosen_path is not None:  # the validator's own test, once more, on the returned path
-            p = dedupe(chosen_path)
-            if len(p) > 1 and world.static_hits(p[:-1], p[1:], np.full(len(p) - 1, r)).any():  # pragma: no cover
-                chosen_path = None
-        if chosen_path is None:
-            if not astar_done:
-                astar_found = astar_initial_path(world, robot, K)[0] is not None
-            status = PlanStatus.TIMEOUT if astar_found else PlanStatus.INFEASIBLE
-            diag["reason"] = ("no collision-free path among the swarm's evaluations"
-                              + ("" if astar_found else "; A* on the world's grid found none either"))
-            diag["best_infeasible_path"] = decode_paths(res.x[None], start, goal)[0]
-            diag["time_s"] = time.perf_counter() - t0
-            return RobotPlan(robot.id, status, None, diag)
-        path = dedupe(chosen_path)
-        d = danger_distances(path[None], centers)
-        diag.update({"length": float(path_lengths(path[None])[0]), "danger_distances": d[0],
-                     "f1": float(danger_inverse_sum(d)[0]), "danger_clearance": float(danger_clearance(d, radii)[0]),
-                     "front_size": int(len(paths)), "time_s": time.perf_counter() - t0})
-        return RobotPlan(robot.id, PlanStatus.EXACT, path, diag)
+        return swarm_path(world, robot, self.optimizer(), mode=self.mode, waypoints=self.waypoints,
+                          particles=self.particles, iterations=self.iterations, init=self.init,
+                          danger_objective=self.danger_objective, danger_margin=self.danger_margin, rng=rng)
 
 
-__all__ = ["AMOPSOPathPlanner", "CHOICE_RULE", "astar_initial_path", "choose_from_front", "path_problem"]
+def plan_robots(planner, world, rng: SeedLike) -> Plan:
+    """Plan every robot of ``world`` alone with ``planner.plan_robot`` (robot i draws from the
+    stream ("amopso-path", robot id) of the seed), as one :class:`Plan`."""
+    t0 = time.perf_counter()
+    robots = tuple(planner.plan_robot(world, robot, rng=make_rng(rng, "amopso-path", robot.id))
+                   for robot in world.robots)
+    diag = {"evaluations": sum(int(r.diagnostics.get("evaluations", 0)) for r in robots),
+            "params": planner.params(), "choice_rule": CHOICE_RULE if planner.mode == "pareto" else "weighted sum"}
+    return Plan(getattr(planner, "registered_name", "") or "amopso-path", robots, time.perf_counter() - t0, diag)
+
+
+def swarm_path(world, robot, optimizer: MOPSO, *, mode: str, waypoints: int, particles: int, iterations: int,
+               init: str, danger_objective: str, danger_margin: float, rng: np.random.Generator) -> RobotPlan:
+    """One robot's path by ``optimizer`` over K = ``waypoints`` waypoints (the module
+    docstring gives the statuses and diagnostics): the start and goal checked, the swarm
+    initialised (``init``: one A* particle or all random, eq. 31), run for ``particles`` x
+    ``iterations``, and the path chosen from the front (``mode="pareto"``, the choice rule)
+    or the best weighted sum."""
+    t0 = time.perf_counter()
+    r = float(robot.radius)
+    for which, status in (("start", PlanStatus.INVALID_START), ("goal", PlanStatus.INVALID_GOAL)):
+        p = np.asarray(getattr(robot, which), float)
+        where = world.obstacle_at(p, r)
+        if not world.bounds.contains(p, r) or where is not None:
+            reason = f"{which} {p.tolist()} " + (f"lies inside {where}" if where else "leaves the workspace")
+            return RobotPlan(robot.id, status, None, {"reason": reason, "time_s": time.perf_counter() - t0})
+    K = int(waypoints)
+    problem = path_problem(world, robot, K, danger_objective)
+    diag: dict[str, Any] = {"update": optimizer.update, "mode": mode, "waypoints": K}
+    initial = None
+    astar_done = False
+    astar_found = False
+    if init == "astar":
+        wps, a_len = astar_initial_path(world, robot, K)
+        astar_done, astar_found = True, wps is not None
+        diag["astar_length"] = a_len
+        if wps is not None:
+            initial = np.clip(encode_waypoints(wps), problem.lower, problem.upper)[None]
+    diag["init"] = "astar" if initial is not None else ("random (no A* path)" if init == "astar" else "random")
+    res = optimizer.minimize(problem, iterations=iterations, particles=particles, rng=rng,
+                                    initial=initial)
+    diag.update({"evaluations": res.n_evaluations, "optimizer_time_s": res.wall_time_s})
+    start, goal = np.asarray(robot.start, float), np.asarray(robot.goal, float)
+    centers = np.array([z.center for z in world.danger_zones], float).reshape(-1, 2)
+    radii = np.array([z.radius for z in world.danger_zones], float)
+
+    fx = res.pareto_x if res.pareto_x is not None else res.x[None]
+    paths = decode_paths(fx, start, goal)
+    ok = ~static_collisions(world, paths, r)
+    paths = paths[ok]
+    front_f = np.asarray(res.pareto_f if res.pareto_f is not None else res.objectives[None])[ok]
+    order = np.argsort(path_lengths(paths), kind="stable")
+    paths, front_f = paths[order], front_f[order]
+    lengths = path_lengths(paths)
+    dist = danger_distances(paths, centers)
+    clear = danger_clearance(dist, radii)
+    diag.update({"front_paths": paths, "front_objectives": front_f, "front_lengths": lengths,
+                 "front_danger_distances": dist, "front_clearance": clear})
+
+    if mode == "pareto":
+        chosen_path = paths[choose_from_front(lengths, clear, float(danger_margin))] if len(paths) else None
+        diag["choice_rule"] = CHOICE_RULE
+    else:
+        best = decode_paths(res.x[None], start, goal)
+        chosen_path = None if static_collisions(world, best, r)[0] else best[0]
+        diag["choice_rule"] = "weighted sum (eq. 13)"
+    if chosen_path is not None:  # the validator's own test, once more, on the returned path
+        p = dedupe(chosen_path)
+        if len(p) > 1 and world.static_hits(p[:-1], p[1:], np.full(len(p) - 1, r)).any():  # pragma: no cover
+            chosen_path = None
+    if chosen_path is None:
+        if not astar_done:
+            astar_found = astar_initial_path(world, robot, K)[0] is not None
+        status = PlanStatus.TIMEOUT if astar_found else PlanStatus.INFEASIBLE
+        diag["reason"] = ("no collision-free path among the swarm's evaluations"
+                          + ("" if astar_found else "; A* on the world's grid found none either"))
+        diag["best_infeasible_path"] = decode_paths(res.x[None], start, goal)[0]
+        diag["time_s"] = time.perf_counter() - t0
+        return RobotPlan(robot.id, status, None, diag)
+    path = dedupe(chosen_path)
+    d = danger_distances(path[None], centers)
+    diag.update({"length": float(path_lengths(path[None])[0]), "danger_distances": d[0],
+                 "f1": float(danger_inverse_sum(d)[0]), "danger_clearance": float(danger_clearance(d, radii)[0]),
+                 "front_size": int(len(paths)), "time_s": time.perf_counter() - t0})
+    return RobotPlan(robot.id, PlanStatus.EXACT, path, diag)
+
+
+__all__ = ["AMOPSOPathPlanner", "CHOICE_RULE", "astar_initial_path", "choose_from_front", "path_problem",
+           "plan_robots", "swarm_path"]

@@ -1,10 +1,13 @@
 """The modified cat swarm of Jaleel & Hassan (2016), online collision avoidance on the grid.
 
-- :mod:`.kernels`: Algorithm 4's steps as small pure functions over arrays (eq. 10-13);
+- :mod:`.kernels`: Algorithm 2-4's steps as small pure functions over arrays (eq. 10-13);
+- :mod:`.cells`: the grid, the distance fields and the robots' paths as cells (shared);
+- :mod:`.paper`: the registered ``cat-swarm-paper`` controller, the paper's rules alone;
 - :mod:`.deadlock`: detecting robots that stopped making progress, and their priority;
 - :mod:`.reservation`: conflict-free joint moves in priority order, with yielding;
-- :mod:`.controller`: the registered ``cat-swarm`` controller that wires them together.
+- :mod:`.controller`: the registered ``cat-swarm`` controller (the paper plus our additions).
 """
 from swarmpath.control.cat_swarm.controller import CatSwarmController
+from swarmpath.control.cat_swarm.paper import CatSwarmPaperController
 
-__all__ = ["CatSwarmController"]
+__all__ = ["CatSwarmController", "CatSwarmPaperController"]

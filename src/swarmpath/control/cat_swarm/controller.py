@@ -28,33 +28,23 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cat_swarm import kernels as K
+from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor, priority_order
 from swarmpath.control.cat_swarm.reservation import reserve_moves
-from swarmpath.control.cell_paths import plan_cells, remaining_lengths
-from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.observation import CLASS_INDEX, Observation
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
-from swarmpath.search import distance_field
 from swarmpath.world.move_rules import move_conflicts
 from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
-
-OFFSET_INDEX = np.zeros((3, 3), np.int64)
-for _k, (_dx, _dy) in enumerate(K.OFFSETS):
-    OFFSET_INDEX[_dx + 1, _dy + 1] = _k
-FIELD_BYTES_FLOAT64 = 256 * 2 ** 20
-
 
 @register_controller("cat-swarm")
 class CatSwarmController(Controller):
@@ -71,7 +61,8 @@ class CatSwarmController(Controller):
         lookahead : steps over which a robot makes sure it can keep clear of moving obstacles
             whatever they do (5; 1 = only the next step, as in the paper).
         leave_early : a robot prefers cells no obstacle can reach within this many steps and
-            leaves a cell (even its goal) that an obstacle may reach that soon (2).
+            leaves a cell (even its goal) that an obstacle may reach that soon (2; 0 = no
+            such preference).
         hazard_horizon, hazard_weight, hazard_decay : look-ahead (steps), weight (cells of
             fitness) and decay per step of the early-warning term that makes robots leave an
             obstacle's way early (4, 2.0, 0.7).
@@ -121,110 +112,21 @@ class CatSwarmController(Controller):
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self._check_parameters()
         n = world.n_robots
-        res = world.resolution
         self.world_ = world
-        self.reach_ = world.max_speeds * world.dt
-        check_grid_robots(world, "cat-swarm")
-        grid = world.grid(radius=float(world.radii.max(initial=0.0)))
-        self.grid_ = grid
-        blocked = grid.blocked
-        self.height_, self.width_ = blocked.shape
-        self.moves_ = K.move_table(blocked)
-        goals = world.goals
-        self.goal_cells_ = self._cells(goals)
-        # one distance field per goal cell (eq. 12 and the replanned paths)
-        flat_goal = self.goal_cells_[:, 1] * self.width_ + self.goal_cells_[:, 0] if n else np.zeros(0, np.int64)
-        unique, self.field_index_ = np.unique(flat_goal, return_inverse=True)
-        big = len(unique) * blocked.size * 8 > FIELD_BYTES_FLOAT64
-        self.fields_ = np.empty((len(unique), self.height_, self.width_), np.float32 if big else np.float64)
-        self.decimals_ = 3 if big else 6
-        for g, flat in enumerate(unique):
-            cell = (int(flat % self.width_), int(flat // self.width_))
-            if grid.is_free(np.asarray(cell)):
-                self.fields_[g] = distance_field(blocked, cell)
-            else:
-                self.fields_[g] = np.inf
-        # each robot's path as grid cells (offline plan), or none: follow the distance field
-        paths = plan.paths if plan is not None else [None] * n
-        chunks, rems, starts, lengths = [], [], np.zeros(n, np.int64), np.zeros(n, np.int64)
-        total = 0
-        start_cells = self._cells(world.starts)
-        for i in range(n):
-            p = paths[i] if i < len(paths) else None
-            cells = plan_cells(p, res, blocked) if p is not None else None
-            if cells is not None and (np.any(cells[0] != start_cells[i]) or np.any(cells[-1] != self.goal_cells_[i])):
-                cells = None
-            starts[i] = total
-            if cells is not None:
-                chunks.append(cells)
-                rems.append(remaining_lengths(cells))
-                lengths[i] = len(cells)
-                total += len(cells)
-        # robots whose exact goal lies off its cell centre reach fewer cells from it
-        goal_centres = grid.centers(self.goal_cells_)
-        self.goal_off_centre_ = np.linalg.norm(goals - goal_centres, axis=1) > 1e-9
-        around = self.goal_cells_[:, None, :] + K.OFFSETS[None]
-        inside = grid.contains_cells(around)
-        near = np.linalg.norm(grid.centers(around) - goals[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9)
-        self.goal_moves_ = inside & near & self.moves_[self.goal_cells_[:, 1], self.goal_cells_[:, 0]] \
-            if n else np.zeros((0, 9), bool)
-        self.goal_moves_[:, K.STAY] = True
-        self.path_flat_ = np.concatenate(chunks) if chunks else np.zeros((1, 2), np.int64)
-        self.path_rem_flat_ = np.concatenate(rems) if rems else np.zeros(1)
-        self.path_start_ = starts
-        self.path_len_ = lengths
-        self.path_k_ = np.where(lengths > 0, 0, -1).astype(np.int64)
+        cells = grid_cells(world, "cat-swarm")  # the checks, move table, distance fields
+        self.cells_ = cells
+        self.grid_ = cells.grid
+        self.height_, self.width_ = cells.shape
+        self.moves_ = cells.moves
+        self.goal_cells_ = cells.goal_cells
+        self.fields_, self.field_index_, self.decimals_ = cells.fields, cells.field_index, cells.decimals
+        self.goal_off_centre_, self.goal_moves_ = cells.goal_off_centre, cells.goal_moves
+        self.paths_ = PathTracker.from_plan(world, plan, cells)  # the offline plan as grid cells
         self.tiebreak_ = rng.random(n)
         self.rng_ = rng
         self.monitor_ = DeadlockMonitor.start(n, patience=self.patience, report_after=self.report_after)
         self.radii_ = world.radii
-        self.forecast_ = ObstacleForecast(world, grid, float(self.radii_.max(initial=0.0)))
-
-    # ------------------------------------------------------------------ helpers
-    def _cells(self, points: FloatArray) -> NDArray[np.int64]:
-        """Grid cells (n, 2) of points; a point on the far edge of the grid (a goal on the
-        workspace boundary) belongs to the last cell, whose closed square holds it."""
-        cells = self.grid_.cell_of(np.asarray(points, float).reshape(-1, 2))
-        return np.clip(cells, 0, [self.width_ - 1, self.height_ - 1])
-
-    def _path_index(self, ahead: int = 0) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
-        """Index into the concatenated paths of each robot's path cell ``ahead`` of its
-        current one, and whether that cell exists (robots off their path: False)."""
-        k = self.path_k_ + ahead
-        ok = (self.path_k_ >= 0) & (k < self.path_len_)
-        idx = np.clip(self.path_start_ + np.maximum(k, 0), 0, len(self.path_flat_) - 1)
-        return idx, ok
-
-    def _remaining(self, cells: NDArray[np.int64], field_here: FloatArray) -> FloatArray:
-        """Remaining path length (cells): along the offline path while the robot is on it,
-        else the replanned (shortest) length. A robot found off its path has replanned."""
-        idx, ok = self._path_index()
-        on = ok & np.all(self.path_flat_[idx] == cells, axis=1)
-        self.path_k_[~on] = -1
-        return np.where(on, self.path_rem_flat_[idx], field_here)
-
-    def _path_next(self, cells: NDArray[np.int64], copy_fitness, static_ok, tie) -> NDArray[np.int64]:
-        """Offset index of the next cell of each robot's path (0 = stay): the offline path
-        while the robot is on it, else the replanned shortest path (distance field)."""
-        nxt = K.descent_step(copy_fitness, static_ok, tie)
-        on = self.path_k_ >= 0
-        idx, has_next = self._path_index(1)
-        d = self.path_flat_[idx] - cells
-        step_ok = has_next & (np.max(np.abs(d), axis=1) == 1)
-        k = np.where(step_ok, OFFSET_INDEX[np.clip(d[:, 0] + 1, 0, 2), np.clip(d[:, 1] + 1, 0, 2)], K.STAY)
-        step_ok &= static_ok[np.arange(len(cells)), k]
-        at_end = on & ~has_next
-        nxt = np.where(at_end, K.STAY, np.where(on & step_ok, k, nxt))
-        self.path_k_[on & has_next & ~step_ok] = -1  # the path is broken here: replan
-        return nxt
-
-    def _advance_paths(self, new_cells: NDArray[np.int64]) -> None:
-        """Move each robot's place on its path; leaving the path means replanning."""
-        here, on = self._path_index()
-        nxt, has_next = self._path_index(1)
-        advanced = has_next & np.all(self.path_flat_[nxt] == new_cells, axis=1)
-        stayed = on & np.all(self.path_flat_[here] == new_cells, axis=1)
-        self.path_k_ = np.where(advanced, self.path_k_ + 1, np.where(stayed, self.path_k_, -1))
+        self.forecast_ = ObstacleForecast(world, self.grid_, float(self.radii_.max(initial=0.0)))
 
     def _conflicts(self, obs, active: NDArray[np.bool_]):
         """Algorithms 2-3 on the simulator's sensing: (robot conflict edges among active
@@ -249,13 +151,13 @@ class CatSwarmController(Controller):
             return Decision(obs.positions.copy(), [])
         pos, goals, at_goal = obs.positions, obs.goals, obs.at_goal
         active = ~at_goal
-        cells = self._cells(pos)
+        cells = self.cells_.cells(pos)
         # step 6.1-6.2: the seeking memory pool, 9 candidate cells per robot, and eq. 12
         copies = K.seek_copies(cells, srd=self.seeking_range)
         path_fitness = K.fitness_eq12(self.fields_, self.field_index_, copies)
-        remaining = self._remaining(cells, path_fitness[:, K.STAY])
+        remaining = self.paths_.remaining(cells, path_fitness[:, K.STAY])
         events = self.monitor_.update(obs.step, remaining, at_goal)
-        targets, in_goal_cell, static_ok, valid = self._candidates(pos, goals, cells, copies)
+        targets, in_goal_cell, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies)
         # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)
         rules = self._obstacle_rules(obs, cells, copies, targets, in_goal_cell, static_ok, valid, active)
         valid, in_danger, threatened, options, safety, hazard = rules
@@ -268,7 +170,7 @@ class CatSwarmController(Controller):
         seek, trace = self._behaviours(obs, active, remaining)
         urgent = self.monitor_.urgent & active
         # each robot's own preference list and where it goes when it must yield
-        path_next = self._path_next(cells, path_fitness, static_ok, tie)
+        path_next = self.paths_.next_step(cells, path_fitness, static_ok, tie)
         own, no_stay = self._preferences(full, valid, safety, path_next, seek, urgent, in_danger, threatened,
                                          active, at_goal, np.isfinite(path_fitness[:, K.STAY]))
         # joint choice in priority order (deadlock.py, reservation.py), then the exact check
@@ -278,7 +180,7 @@ class CatSwarmController(Controller):
                                              urgent | in_danger | threatened)
         new, held = self._verified(pos, targets[np.arange(n), choice], cells, order)
         choice[held] = K.STAY
-        self._advance_paths(cells + K.OFFSETS[choice])  # step 6.6: leaving the path = replanning
+        self.paths_.advance(cells + K.OFFSETS[choice])  # step 6.6: leaving the path = replanning
         for i in np.flatnonzero(held):
             events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
         modes = np.where(at_goal, "arrived", "follow").astype(object)
@@ -290,21 +192,6 @@ class CatSwarmController(Controller):
         modes[threatened & ~seek & ~yielded] = "evade"
         modes[in_danger] = "escape"
         return Decision(new, modes.tolist(), events)
-
-    def _candidates(self, pos, goals, cells, copies):
-        """Where each candidate takes the robot (n, 9, 2): a cell centre, the exact goal in the
-        goal cell; staying settles on the centre (or the goal) of the robot's own cell. Also
-        which candidates are the goal cell, and which are allowed statically and in reach."""
-        grid = self.grid_
-        static_ok = self.moves_[cells[:, 1], cells[:, 0]]
-        targets = grid.centers(copies)
-        in_goal_cell = np.all(copies == self.goal_cells_[:, None, :], axis=2)
-        targets = np.where(in_goal_cell[..., None], goals[:, None, :], targets)
-        targets[:, K.STAY] = np.where(in_goal_cell[:, K.STAY, None], goals, grid.centers(cells))
-        in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach_[:, None] * (1 + 1e-9) + 1e-12
-        valid = static_ok & in_reach
-        valid[:, K.STAY] = True  # staying (or settling inside one's own cell) is always possible
-        return targets, in_goal_cell, static_ok, valid
 
     def _obstacle_rules(self, obs, cells, copies, targets, in_goal_cell, static_ok, valid, active):
         """Step 6.3 for moving obstacles plus our look-ahead (see the module docs). Returns
@@ -352,7 +239,7 @@ class CatSwarmController(Controller):
             if not undecided.any():
                 break
         # and, among those, prefer cells an obstacle cannot reach soon (leave early)
-        safety = np.where(valid, K.stay_depth(covered[:self.leave_early])[ys, xs], -1)
+        safety = np.where(valid, K.stay_depth(covered[:self.leave_early], covered[0].shape)[ys, xs], -1)
         threatened |= safety.max(axis=1) > safety[:, K.STAY]
         threatened &= ~in_danger
         warning = None
@@ -370,12 +257,7 @@ class CatSwarmController(Controller):
         seek = np.zeros(n, bool)
         members = np.flatnonzero(conflict)
         if len(members):
-            local = -np.ones(n, np.int64)
-            local[members] = np.arange(len(members))
-            e = edges[conflict[edges[:, 0]] & conflict[edges[:, 1]]]
-            graph = coo_matrix((np.ones(len(e)), (local[e[:, 0]], local[e[:, 1]])),
-                               shape=(len(members), len(members)))
-            _, labels = connected_components(graph, directed=False)
+            labels = K.conflict_groups(edges, conflict)
             seek[members] = K.mixture_split(remaining[members], labels, self.mixture_ratio, self.tiebreak_[members])
         seek |= obstacle_alert  # trace robots that see a moving obstacle switch to seek
         return seek, conflict & ~seek

@@ -9,6 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -50,6 +53,19 @@ def mixture_split(remaining: FloatArray, groups: IntArray, mixture_ratio: float,
     seek = np.zeros(n, dtype=bool)
     seek[order] = rank < np.repeat(n_seek, sizes)
     return seek
+
+
+def conflict_groups(edges: IntArray, members: BoolArray) -> IntArray:
+    """Groups of robots in conflict with each other: connected components of the conflict
+    graph (``edges`` (e, 2) robot pairs) among the robots flagged in ``members`` (n,).
+    Returns one group label per member, in the order of ``np.flatnonzero(members)`` (the
+    groups of :func:`mixture_split`)."""
+    index = np.flatnonzero(members)
+    local = -np.ones(len(members), np.int64)
+    local[index] = np.arange(len(index))
+    e = edges[members[edges[:, 0]] & members[edges[:, 1]]]
+    graph = coo_matrix((np.ones(len(e)), (local[e[:, 0]], local[e[:, 1]])), shape=(len(index), len(index)))
+    return connected_components(graph, directed=False)[1].astype(np.int64)
 
 
 def seek_copies(cells: IntArray, *, srd: int = 1) -> IntArray:
@@ -177,9 +193,14 @@ def warning_levels(covered: list[BoolArray], cells: IntArray, decay: float) -> F
     return out
 
 
-def stay_depth(covered: list[BoolArray]) -> NDArray[np.int64]:
+def stay_depth(covered: list[BoolArray], shape: tuple[int, int] | None = None) -> NDArray[np.int64]:
     """For every cell, for how many of the next K steps it stays clear of every obstacle
-    (0 ... K), shape (height, width): how long a robot could wait there."""
+    (0 ... K), shape (height, width): how long a robot could wait there. With K = 0 steps
+    (an empty list) every cell gets 0; ``shape`` gives the grid's shape then."""
+    if not covered:
+        if shape is None:
+            raise ValueError("stay_depth: give the grid's shape when there are no steps")
+        return np.zeros(shape, dtype=np.int64)
     clear = np.ones(covered[0].shape, dtype=bool)
     depth = np.zeros(covered[0].shape, dtype=np.int64)
     for d in covered:
@@ -200,4 +221,50 @@ def escape_cells(unsafe: BoolArray, moves: BoolArray) -> BoolArray:
     out = np.zeros((h, w), dtype=bool)
     for k, (dx, dy) in enumerate(OFFSETS):
         out |= moves[..., k] & ~pad[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+    return out
+
+
+def linear_next(previous: FloatArray, current: FloatArray) -> FloatArray:
+    """Algorithm 2's "next objects position" of a moving obstacle: where its last move takes
+    it again, current + (current - previous) (the paper's blocks keep their direction until
+    they hit something). previous, current (m, 2) -> (m, 2)."""
+    current = np.asarray(current, float).reshape(-1, 2)
+    return current + (current - np.asarray(previous, float).reshape(-1, 2))
+
+
+def conflict_lists(robot_points: FloatArray, object_points: FloatArray, object_owner: IntArray,
+                   limit: float) -> tuple[IntArray, IntArray]:
+    """Algorithm 2 (steps 2-5, each with Algorithm 3): the object positions in every robot's
+    short or medium list. The distances (eq. 9) from the robot's current and next position
+    (Rc, Rn) to every object's current and next position (C-Object, N-Object) are classified;
+    a position within ``limit`` (the upper bound of the medium class) is listed.
+
+    robot_points : (n, 2, 2) each robot's (Rc, Rn)
+    object_points : (k, 2) the objects' current and next positions, one row each
+    object_owner : (k,) the robot a row belongs to (-1 for a moving obstacle), so that a
+        robot never lists itself
+    Returns (robot (e,), object row (e,)): each listed pair once, sorted.
+    """
+    n = len(robot_points)
+    if n == 0 or len(object_points) == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    tree = cKDTree(np.asarray(object_points, float))
+    hits = tree.query_ball_point(np.asarray(robot_points, float).reshape(-1, 2), limit)
+    robot = np.repeat(np.arange(2 * n) // 2, [len(h) for h in hits]).astype(np.int64)
+    row = np.fromiter((j for h in hits for j in h), np.int64, count=len(robot))
+    keep = object_owner[row] != robot
+    pairs = np.unique(np.stack([robot[keep], row[keep]], axis=1), axis=0).reshape(-1, 2)
+    return pairs[:, 0], pairs[:, 1]
+
+
+def near_listed(points: FloatArray, robot: IntArray, listed: FloatArray, clearance: float) -> NDArray[np.bool_]:
+    """Which points of each robot lie closer than ``clearance`` to an object position in its
+    lists (step 6.3: "distance less than one" deletes a copy; step 7: a tracing robot waits).
+
+    points : (n, k, 2) per robot (its copies, or k = 1: its position); robot (e,), listed
+    (e, 2): the listed object positions and whose lists they are in. Returns (n, k)."""
+    out = np.zeros(points.shape[:2], dtype=bool)
+    if len(robot):
+        close = np.linalg.norm(points[robot] - listed[:, None, :], axis=-1) < clearance
+        np.logical_or.at(out, robot, close)
     return out

@@ -173,3 +173,38 @@ def objective(problem: StepProblem, world, x_next: FloatArray, weights: Weights)
     violation = hard_violation(problem, world, x_next)
     cost = cost + weights.hard * (violation + (violation > 0))
     return cost, violation
+
+
+def paper_objective(problem: StepProblem, world, x_next: FloatArray,
+                    weights: Weights) -> tuple[FloatArray, FloatArray]:
+    """Eq. 3-7 as printed, for candidates x_next (k, p, 2): (cost, zeros), both (k, p).
+
+    F_i = ||x_i' - g_i|| + f_dp sum_j min(0, d'_ij - (r_i + r_j + eps))^2
+          + f_st ([x_i -> x_i' touches a static obstacle] + [x_i' -> g_i touches one])
+          + f_dy sum_m [m sensed] / ||x_i' - p_m'||
+
+    ``weights.kin``, ``weights.static`` and ``weights.moving`` are f_dp, f_st and f_dy (the
+    paper: positive constants, values not given). The paper's "local trajectory" is the two
+    segments; each that touches a static obstacle or the workspace's edge adds f_st (with one
+    constant for both, a robot whose goal is hidden would walk into the obstacle: every
+    candidate pays it). No clearance ramp, no hard constraints.
+    ``problem.pair_room`` is r_i + r_j + eps and ``problem.obstacle_target`` p_m', the
+    predicted (or, without prediction, current) position of obstacle m.
+    """
+    k, p, _ = x_next.shape
+    cost = goal_distance(x_next, problem.goal)
+    if len(problem.pair_row):
+        cost = cost + weights.kin * kin_penalty(x_next, problem.pair_row, problem.pair_announced, problem.pair_room)
+    if problem.obstacle_mask.any():
+        cost = cost + weights.moving * inverse_obstacle_distance(x_next, problem.obstacle_target,
+                                                                 problem.obstacle_mask)
+    flat = x_next.reshape(-1, 2)
+    radius = np.repeat(problem.radius, p)
+    start = np.repeat(problem.start, p, axis=0)
+    moved = np.any(flat != start, axis=1)
+    on_step = np.zeros(len(flat), bool)
+    if moved.any():
+        on_step[moved] = world.static_hits(start[moved], flat[moved], radius[moved])
+    on_line = world.static_hits(flat, np.repeat(problem.goal, p, axis=0), radius)
+    cost = cost + weights.static * (on_step.astype(float) + on_line).reshape(k, p)
+    return cost, np.zeros((k, p))
