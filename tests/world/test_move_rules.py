@@ -69,3 +69,23 @@ def test_the_grid_table_is_the_kernel_on_cell_centres() -> None:
     # half-cell discs may not follow around a corner; points may
     follow = (NEAR_OFFSETS.tolist().index([1, 0]), 1, 3)   # j east of i; i moves E, j moves N
     assert grid_conflict_table(0.5, 0.5)[follow] and not grid_conflict_table(0.0, 0.0)[follow]
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10**6), reach=st.sampled_from([0.0, 0.3, 1.7]), cell=st.sampled_from([0.5, 1.0, 2.0]))
+def test_raster_clearance_equals_brute_force(seed, reach, cell) -> None:
+    """The raster's segment clearance walks only the cells a segment's band can touch; it
+    must equal the distance to every blocked square taken one by one."""
+    from swarmpath.world import geometry as g
+    from swarmpath.world.static_map import StaticMap
+
+    rng = np.random.default_rng(seed)
+    h, w = rng.integers(3, 20, 2)
+    sm = StaticMap(rng.random((h, w)) < 0.3, cell)
+    a = rng.uniform(-2, w * cell + 2, (20, 2))
+    b = a + rng.normal(0, 4, (20, 2)) * rng.choice([0, 1, 0.01], (20, 1))
+    ys, xs = np.nonzero(sm.blocked)
+    lo = np.stack([xs, ys], 1) * cell
+    d = g.segment_box_distance(a[:, None], b[:, None], lo[None], lo[None] + cell) if len(xs) else np.full((20, 1), np.inf)
+    expected = np.where(d <= reach + g.EPS, d, np.inf).min(axis=1)
+    assert np.array_equal(sm.segment_clearance(a, b, reach), expected)

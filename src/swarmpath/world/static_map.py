@@ -16,6 +16,7 @@ from swarmpath.world import geometry as g
 from swarmpath.world.raster import Raster
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
 
 
 @dataclass(frozen=True, eq=False)
@@ -49,35 +50,59 @@ class StaticMap(Raster):
         out[inside] = self.blocked[y[inside], x[inside]]
         return out
 
-    def _window(self, a: FloatArray, b: FloatArray, reach: float) -> tuple[FloatArray, FloatArray, NDArray[np.bool_]]:
-        """Squares of the cells near each segment: lo, hi of shape (n, k, 2) and blocked mask (n, k)."""
+    def _candidates(self, a: FloatArray, b: FloatArray, reach: float) -> tuple[IntArray, IntArray, IntArray]:
+        """The blocked cells that may lie within ``reach`` of each segment: (segment index,
+        column, row) arrays. Walks each segment along its longer axis one cell column (or row)
+        at a time and takes, in that strip, the rows the segment's band of half-width
+        ``reach`` can touch: about (length + 2 reach) x (1 + 2 reach) cells per segment, so a
+        long segment costs what it passes, not the square of its length."""
         cs = self.cell_size
-        lo_pt = np.minimum(a, b) - reach
-        hi_pt = np.maximum(a, b) + reach
-        c0 = np.floor(lo_pt / cs).astype(int)
-        c1 = np.floor(hi_pt / cs).astype(int)
-        span = int(max(1, (c1 - c0).max(initial=0) + 1))
-        off = np.arange(span)
-        ox, oy = np.meshgrid(off, off, indexing="xy")
-        ox, oy = ox.ravel(), oy.ravel()
-        cx = c0[:, None, 0] + ox[None, :]
-        cy = c0[:, None, 1] + oy[None, :]
-        valid = (cx <= c1[:, None, 0]) & (cy <= c1[:, None, 1])
+        swap = np.abs(b[:, 1] - a[:, 1]) > np.abs(b[:, 0] - a[:, 0])    # walk along y instead of x
+        ua = np.where(swap, a[:, 1], a[:, 0]) / cs
+        ub = np.where(swap, b[:, 1], b[:, 0]) / cs
+        va = np.where(swap, a[:, 0], a[:, 1]) / cs
+        vb = np.where(swap, b[:, 0], b[:, 1]) / cs
+        r = reach / cs
+        c0 = np.floor(np.minimum(ua, ub) - r).astype(np.int64)
+        c1 = np.floor(np.maximum(ua, ub) + r).astype(np.int64)
+        per_segment = c1 - c0 + 1
+        seg = np.repeat(np.arange(len(a)), per_segment)
+        col = c0[seg] + (np.arange(len(seg)) - np.repeat(np.cumsum(per_segment) - per_segment, per_segment))
+        # the part of the segment whose walking coordinate lies in [col - r, col + 1 + r]
+        du = ub[seg] - ua[seg]
+        flat = np.abs(du) < 1e-12
+        safe = np.where(flat, 1.0, du)
+        t0 = np.clip(np.where(flat, 0.0, (col - r - ua[seg]) / safe), 0.0, 1.0)
+        t1 = np.clip(np.where(flat, 1.0, (col + 1 + r - ua[seg]) / safe), 0.0, 1.0)
+        v0 = va[seg] + t0 * (vb[seg] - va[seg])
+        v1 = va[seg] + t1 * (vb[seg] - va[seg])
+        r0 = np.floor(np.minimum(v0, v1) - r).astype(np.int64)
+        r1 = np.floor(np.maximum(v0, v1) + r).astype(np.int64)
+        per_column = r1 - r0 + 1
+        seg = np.repeat(seg, per_column)
+        col = np.repeat(col, per_column)
+        row = np.repeat(r0, per_column) + (np.arange(len(seg)) - np.repeat(np.cumsum(per_column) - per_column,
+                                                                             per_column))
+        sw = swap[seg]
+        cx, cy = np.where(sw, row, col), np.where(sw, col, row)
         inside = (cx >= 0) & (cx < self.width) & (cy >= 0) & (cy < self.height)
-        blocked = np.zeros(cx.shape, dtype=bool)
-        m = valid & inside
-        blocked[m] = self.blocked[cy[m], cx[m]]
-        lo = np.stack([cx, cy], axis=-1) * cs
-        return lo, lo + cs, blocked
+        keep = np.flatnonzero(inside)
+        keep = keep[self.blocked[cy[keep], cx[keep]]]
+        return seg[keep], cx[keep], cy[keep]
 
     def segment_clearance(self, a: ArrayLike, b: ArrayLike, reach: float = 0.0) -> FloatArray:
         """Distance from segments to the nearest blocked square, looked for within ``reach``
         (``inf`` when none is that close)."""
         a = np.atleast_2d(np.asarray(a, float))
         b = np.atleast_2d(np.asarray(b, float))
-        lo, hi, blocked = self._window(a, b, reach + g.EPS)
-        d = g.segment_box_distance(a[:, None, :], b[:, None, :], lo, hi)
-        return np.where(blocked, d, np.inf).min(axis=-1)
+        out = np.full(len(a), np.inf)
+        seg, cx, cy = self._candidates(a, b, reach + g.EPS)
+        if len(seg):
+            cs = self.cell_size
+            lo = np.stack([cx, cy], axis=-1) * cs
+            d = g.segment_box_distance(a[seg], b[seg], lo, lo + cs)
+            np.minimum.at(out, seg, np.where(d <= reach + g.EPS, d, np.inf))
+        return out
 
     def segment_hits(self, a: ArrayLike, b: ArrayLike, radius: ArrayLike) -> NDArray[np.bool_]:
         """Whether a disc of ``radius`` moved along each segment touches a blocked square
