@@ -10,7 +10,7 @@ from typing import Any
 __version__ = "0.1.0"
 
 _SUBPACKAGES = {"world", "search", "optim", "planning", "control", "sim", "metrics", "runner", "viz",
-                "bench", "testing"}
+                "bench", "testing", "env"}
 _SHORTCUTS = {
     "World": "swarmpath.world",
     "load_scenario": "swarmpath.world",
