@@ -50,6 +50,7 @@ class GridActions:
         self.height, self.width = self.grid.blocked.shape
         self.goals = world.goals
         self.goal_cells = self.cells(self.goals)
+        self.goal_off_centre = np.any(self.goals != self.grid.centers(self.goal_cells), axis=1)
         self.reach = world.max_speeds * world.dt
         self.static_ok = static_moves(self.grid.blocked, connectivity)[:, :, index]
         # from a cell centre, which moves' centres are in reach (most robots, most steps)
@@ -76,12 +77,12 @@ class GridActions:
         to_goal = np.all(dest == goal_cells, axis=1)
         return np.where(to_goal[:, None], goals, targets)
 
-    def targets(self, pos: FloatArray, rows: IntArray | None = None) -> FloatArray:
-        """Where every action takes robots ``rows`` (default all) standing at ``pos``, shape
-        (k, n_actions, 2)."""
+    def targets(self, pos: FloatArray, rows: IntArray | None = None, cells: IntArray | None = None) -> FloatArray:
+        """Where every action takes robots ``rows`` (default all) standing at ``pos`` (in
+        ``cells``, when known), shape (k, n_actions, 2)."""
         goal_cells = self.goal_cells if rows is None else self.goal_cells[rows]
         goals = self.goals if rows is None else self.goals[rows]
-        dest = self.cells(pos)[:, None, :] + self.moves[None]
+        dest = (self.cells(pos) if cells is None else cells)[:, None, :] + self.moves[None]
         targets = self.grid.centers(dest)
         to_goal = np.all(dest == goal_cells[:, None, :], axis=2)
         return np.where(to_goal[..., None], goals[:, None, :], targets)
@@ -92,11 +93,12 @@ class GridActions:
         simulator's checker decides."""
         cells = self.cells(pos) if cells is None else cells
         ok = self.static_ok[cells[:, 1], cells[:, 0]] & self.centre_reach
-        # robots off a cell centre, or next to their goal cell, have other distances
+        # robots off a cell centre, or next to a goal cell whose goal is off its centre, have
+        # other distances
         odd = np.flatnonzero(np.any(pos != self.grid.centers(cells), axis=1)
-                             | (np.max(np.abs(cells - self.goal_cells), axis=1) <= 1))
+                             | (self.goal_off_centre & (np.max(np.abs(cells - self.goal_cells), axis=1) <= 1)))
         if len(odd):
-            dist = np.linalg.norm(self.targets(pos[odd], odd) - pos[odd, None, :], axis=2)
+            dist = np.linalg.norm(self.targets(pos[odd], odd, cells[odd]) - pos[odd, None, :], axis=2)
             ok[odd] = self.static_ok[cells[odd, 1], cells[odd, 0]] & \
                 (dist <= self.reach[odd, None] * (1 + LENGTH_TOLERANCE) + 1e-12)
         ok[:, 0] = True

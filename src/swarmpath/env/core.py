@@ -70,6 +70,9 @@ class EnvCore:
         self.reach = world.max_speeds * world.dt
         self.goals = world.goals
         self.rewards = options.rewards
+        w = options.rewards
+        self._weights = np.array([w.progress, w.arrival, w.step, w.robot_contact, w.static_contact,
+                                  w.moving_contact, w.invalid_move])
         if self.mode == GRID:
             self.grid_actions = GridActions(world, options.connectivity)
             self.grid_obs = GridObservations(world, self.grid_actions.grid, options.view)
@@ -129,6 +132,8 @@ class EnvCore:
         self.terminated_ = np.zeros(self.n, bool)
         self.truncated_ = np.zeros(self.n, bool)
         self.contact_totals_ = np.zeros((self.n, 3), np.int64)
+        d = self.stepper.positions - self.goals
+        self.dist_ = np.hypot(d[:, 0], d[:, 1])
         self.last_counts_ = np.zeros((self.n, 3), np.int64)
         self.last_rejected_ = np.zeros(self.n, bool)
         self.last_rewards_ = np.zeros(self.n)
@@ -225,17 +230,17 @@ class EnvCore:
         if self.done:
             raise ConfigError("the episode is over: call reset()")
         st = self.stepper
-        before = st.positions
-        was_at_goal = st.at_goal()
+        dist_before = self.dist_
+        was_at_goal = dist_before <= GOAL_TOLERANCE
         outcome = st.end_step(proposed)
-        at_goal = st.at_goal()
-        w = self.rewards
-        gained = (np.linalg.norm(before - self.goals, axis=1) - np.linalg.norm(st.positions - self.goals, axis=1))
-        reward = w.progress * gained / self.reach
-        reward += w.arrival * (at_goal & ~was_at_goal)
-        reward += w.step * ~at_goal
-        reward += outcome.counts @ np.array([w.robot_contact, w.static_contact, w.moving_contact])
-        reward += w.invalid_move * outcome.rejected
+        d = st.positions - self.goals
+        self.dist_ = np.hypot(d[:, 0], d[:, 1])
+        at_goal = self.dist_ <= GOAL_TOLERANCE
+        reward = self._weights[0] * (dist_before - self.dist_) / self.reach
+        reward += self._weights[1] * (at_goal & ~was_at_goal)
+        reward += self._weights[2] * ~at_goal
+        reward += outcome.counts @ self._weights[3:6]
+        reward += self._weights[6] * outcome.rejected
         self.last_rewards_ = reward
         self.last_counts_ = outcome.counts
         self.last_rejected_ = outcome.rejected
@@ -270,7 +275,7 @@ class EnvCore:
         """Info of robots ``rows`` for the last step: contacts by kind this step and in the
         episode, whether the move was rejected, whether the robot is at its goal, its distance."""
         st = self.stepper
-        dist = np.linalg.norm(st.positions[rows] - self.goals[rows], axis=1)
+        dist = self.dist_[rows]
         step = st.step
         columns = zip(dist.tolist(), (dist <= GOAL_TOLERANCE).tolist(), self.last_counts_[rows].tolist(),
                       self.contact_totals_[rows].sum(axis=1).tolist(), self.last_rejected_[rows].tolist())

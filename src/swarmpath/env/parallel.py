@@ -68,7 +68,7 @@ class SwarmpathParallelEnv(ParallelEnv):
         same obstacles and experts); without a seed, the seed after the last one."""
         self.core.reset(seed)
         self.agents = list(self.possible_agents)
-        rows = np.arange(self.core.n)
+        self._rows = rows = np.arange(self.core.n)
         return self._observations(rows), self._infos(rows)
 
     def step(self, actions: dict[str, Any]) -> tuple[dict, dict, dict, dict, dict]:
@@ -81,16 +81,17 @@ class SwarmpathParallelEnv(ParallelEnv):
         if unknown:
             raise ConfigError(f"action for unknown agent {unknown[0]!r}")
         core = self.core
-        rows = np.array([self._index[a] for a in self.agents], np.int64)
-        core.step(core.decode([actions[a] for a in self.agents], rows))
         agents = self.agents
+        rows = self._rows
+        core.step(core.decode([actions[a] for a in agents], rows))
         obs = self._observations(rows)
         rewards = dict(zip(agents, core.last_rewards_[rows].tolist()))
         terminated = dict(zip(agents, core.terminated_[rows].tolist()))
         truncated = dict(zip(agents, core.truncated_[rows].tolist()))
         infos = self._infos(rows)
-        live = core.live_
-        self.agents = [a for a, k in zip(agents, rows.tolist()) if live[k]]
+        if not core.live_[rows].all():
+            self.agents = [a for a, alive in zip(agents, core.live_[rows].tolist()) if alive]
+            self._rows = np.array([self._index[a] for a in self.agents], np.int64)
         return obs, rewards, terminated, truncated, infos
 
     def close(self) -> None:
@@ -115,10 +116,14 @@ class SwarmpathParallelEnv(ParallelEnv):
     # ------------------------------------------------------------------ helpers
     def _observations(self, rows: np.ndarray) -> dict[str, Any]:
         agents = [self.possible_agents[k] for k in rows.tolist()]
+        every = len(rows) == self.core.n
         if self.core.mode == GRID:
             patch, goal = self.core.observe()
-            return {a: {"patch": p, "goal": g} for a, p, g in zip(agents, patch[rows], goal[rows])}
-        return dict(zip(agents, self.core.observe()[rows]))
+            if not every:
+                patch, goal = patch[rows], goal[rows]
+            return {a: {"patch": p, "goal": g} for a, p, g in zip(agents, patch, goal)}
+        vectors = self.core.observe()
+        return dict(zip(agents, vectors if every else vectors[rows]))
 
     def _infos(self, rows: np.ndarray) -> dict[str, dict]:
         agents = [self.possible_agents[k] for k in rows.tolist()]
