@@ -60,8 +60,8 @@ class Recorder(Controller):
 
 
 def test_the_stepper_driven_by_a_controller_is_the_simulator() -> None:
-    from swarmpath.world.generators import with_obstacles
     from swarmpath.world import world_from_movingai
+    from swarmpath.world.generators import with_obstacles
 
     world = with_obstacles(world_from_movingai("room-32-32-4.map", "room-32-32-4-even-10.scen", 8), "redraw", 4, 1)
     ref = Recorder()

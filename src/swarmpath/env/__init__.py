@@ -26,13 +26,19 @@ _LAZY = {
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
+        try:
+            module = importlib.import_module(_LAZY[name])
+        except ModuleNotFoundError as exc:
+            if exc.name in ("gymnasium", "pettingzoo"):
+                raise ImportError(f"swarmpath.env.{name} needs {exc.name}: pip install 'swarmpath[env]'") from None
+            raise
+        return getattr(module, name)
     raise AttributeError(f"module 'swarmpath.env' has no attribute {name!r}")
 
 
 __all__ = sorted(_LAZY)
 
-if "gymnasium" in sys.modules:
+if sys.modules.get("gymnasium") is not None:
     from swarmpath.env.registration import register_envs as _register
 
     _register()

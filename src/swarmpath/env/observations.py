@@ -130,7 +130,8 @@ class GridObservations:
         return layer.ravel()
 
     def observe(self, cells: NDArray[np.int64], pos: FloatArray, goals: FloatArray, goal_cells: NDArray[np.int64],
-                obstacles_now: FloatArray, obstacles_before: FloatArray) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+                obstacles_now: FloatArray, obstacles_before: FloatArray
+                ) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
         """Patches (n, 5, size, size) and goal vectors (n, 3) of robots in ``cells`` (n, 2)."""
         v, n, size = self.view, len(cells), self.size
         wide = self.padded[1]
