@@ -83,5 +83,5 @@ class ExpertPool:
                 raise ConfigError(f"expert {expert_name(controller)!r} returned positions of shape "
                                   f"{positions.shape}, expected {observation.positions.shape}")
             entry.step, entry.decision = observation.step, decision
-        assert entry.decision is not None
-        return entry.decision
+            return decision
+        return entry.decision  # type: ignore[return-value]  # set at this step

@@ -199,11 +199,6 @@ class WorldStepper:
         """Robots at their goals (the simulator's exact test), shape (n,)."""
         return np.linalg.norm(self.pos_ - self.goals_, axis=1) <= GOAL_TOLERANCE
 
-    def add_event(self, event: dict) -> None:
-        """Record an event of the current step (e.g. an agent's arrival) in the trajectory."""
-        if self.record:
-            self.events_.append({"step": self.step_, **event})
-
     def trajectory(self, status: Termination | str | None = None, *, meta: dict | None = None,
                    planned_paths: list | None = None) -> Trajectory:
         """The run so far as a :class:`~swarmpath.sim.trajectory.Trajectory` (status: every
