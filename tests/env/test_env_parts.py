@@ -9,14 +9,26 @@ import pytest
 from swarmpath.control.base import Controller, Decision
 from swarmpath.env.actions import ContinuousActions, GridActions
 from swarmpath.env.core import EnvCore
-from swarmpath.env.observations import ContinuousObservations, FootprintRaster, GridObservations
+from swarmpath.env.observations import (
+    ContinuousObservations,
+    FootprintRaster,
+    GridObservations,
+)
 from swarmpath.env.options import EnvOptions, Rewards
-from swarmpath.env.stepper import WorldStepper, validate_moves
 from swarmpath.errors import ConfigError
 from swarmpath.registry import CONTROLLERS
 from swarmpath.rng import make_rng
 from swarmpath.sim.simulator import Simulator
-from swarmpath.world import Circle, MovingObstacle, Rect, RectBounds, Robot, World, load_scenario
+from swarmpath.sim.stepper import WorldStepper, validate_moves
+from swarmpath.world import (
+    Circle,
+    MovingObstacle,
+    Rect,
+    RectBounds,
+    Robot,
+    World,
+    load_scenario,
+)
 
 
 def small_grid_world(**robot) -> World:
@@ -28,20 +40,20 @@ def small_grid_world(**robot) -> World:
 
 
 # ---------------------------------------------------------------- the step loop
-def test_validate_moves_is_the_simulators_rule() -> None:
+def test_validate_moves_rejects_long_and_non_finite_moves() -> None:
     rng = np.random.default_rng(0)
-    world = small_grid_world()
-    sim = Simulator(world, CONTROLLERS.get("pibt")())
     for _ in range(50):
         pos = rng.uniform(0, 5, (7, 2))
         proposed = pos + rng.normal(0, 1.2, (7, 2))
         proposed[rng.random(7) < 0.2] = np.nan
         speeds = rng.uniform(0.5, 2.0, 7)
-        mine, theirs = [], []
-        new, rejected = validate_moves(proposed, pos, speeds, 3, mine)
-        expected = sim._validated(proposed, pos, speeds, 3, theirs)
-        assert np.array_equal(new, expected) and mine == theirs
-        assert rejected.sum() == len(mine)
+        events: list = []
+        new, rejected = validate_moves(proposed, pos, speeds, 3, events)
+        length = np.linalg.norm(proposed - pos, axis=1)
+        bad = ~np.isfinite(length) | (length > speeds * (1 + 1e-9) + 1e-12)
+        assert np.array_equal(rejected, bad) and rejected.sum() == len(events)
+        assert np.array_equal(new[bad], pos[bad]) and np.array_equal(new[~bad], proposed[~bad])
+        assert all(e["kind"] == "invalid_move" and e["step"] == 3 for e in events)
 
 
 class Recorder(Controller):

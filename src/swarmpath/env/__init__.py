@@ -20,7 +20,7 @@ _LAZY = {
     "ENV_ID": "swarmpath.env.registration",
     "EnvOptions": "swarmpath.env.options",
     "Rewards": "swarmpath.env.options",
-    "WorldStepper": "swarmpath.env.stepper",
+    "WorldStepper": "swarmpath.sim.stepper",
 }
 
 

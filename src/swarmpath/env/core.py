@@ -1,5 +1,5 @@
 """The environments' engine, free of Gymnasium and PettingZoo: episodes of one world over the
-simulator's step loop (:class:`~swarmpath.env.stepper.WorldStepper`), with actions,
+simulator's step loop (:class:`~swarmpath.sim.stepper.WorldStepper`), with actions,
 observations, rewards, terminations and experts for all robots at once, as arrays.
 
 The environment's step t+1 is the simulator's step t+1 cut where the agents decide: when
@@ -20,13 +20,17 @@ from swarmpath.control.base import Controller
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.env.actions import ContinuousActions, GridActions
 from swarmpath.env.experts import ExpertPool, expert_name
-from swarmpath.env.observations import GRID_CHANNELS, ContinuousObservations, GridObservations
+from swarmpath.env.observations import (
+    GRID_CHANNELS,
+    ContinuousObservations,
+    GridObservations,
+)
 from swarmpath.env.options import CONTINUOUS, GRID, EnvOptions
-from swarmpath.env.stepper import StepOutcome, WorldStepper
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import PLANNERS
-from swarmpath.sim.simulator import GOAL_TOLERANCE, default_max_steps
+from swarmpath.sim.simulator import default_max_steps
+from swarmpath.sim.stepper import GOAL_TOLERANCE, StepOutcome, WorldStepper
 from swarmpath.sim.trajectory import ALL_REACHED, TRUNCATED, Trajectory
 from swarmpath.world.world import World
 

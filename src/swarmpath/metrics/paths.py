@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-GOAL_TOLERANCE = 1e-9
+from swarmpath.sim.stepper import GOAL_TOLERANCE
 
 
 def path_length(points: ArrayLike) -> float:

@@ -1,14 +1,16 @@
 """The simulator: steps the world, asks the controller for moves, and checks every move.
 
-Each step: (1) moving obstacles move by their motion model; (2) robots sense; (3) the
-controller returns next positions; (4) the simulator validates them (finite, within the
-robot's ``max_speed * dt``; an invalid move is recorded and the robot stays) and checks
-collisions itself (:mod:`swarmpath.sim.collisions`); (5) it records everything. A run ends when
+Each step (:class:`~swarmpath.sim.stepper.WorldStepper`, which environments drive too):
+(1) moving obstacles move by their motion model; (2) robots sense; (3) the controller returns
+next positions; (4) the moves are validated (finite, within the robot's ``max_speed * dt``;
+an invalid move is recorded and the robot stays) and contacts decided by the independent
+checker (:mod:`swarmpath.sim.collisions`); (5) everything is recorded. A run ends when
 every robot is at its goal, when the step budget is spent ("truncated"), or when the robots
 that have not arrived stopped making progress ("deadlock").
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from typing import Callable
@@ -16,18 +18,15 @@ from typing import Callable
 import numpy as np
 
 from swarmpath.control.base import Controller, Decision
-from swarmpath.planning.base import Plan
+from swarmpath.control.observation import SensingConfig
 from swarmpath.errors import ConfigError
+from swarmpath.planning.base import Plan
 from swarmpath.rng import make_rng
-from swarmpath.sim.collisions import step_contacts
-from swarmpath.control.observation import Observation, SensingConfig
 from swarmpath.sim.progress import ProgressWatch, distinct_positions, unreachable_goals
-from swarmpath.sim.sensing import sense
+from swarmpath.sim.stepper import GOAL_TOLERANCE, WorldStepper
 from swarmpath.sim.trajectory import ALL_REACHED, DEADLOCK, TRUNCATED, Trajectory
-from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
 from swarmpath.world.world import World
 
-GOAL_TOLERANCE = 1e-9
 #: Behaviour names a run may use (trajectories store them as int8 indices).
 MAX_MODE_NAMES = 127
 
@@ -78,41 +77,33 @@ class Simulator:
         self.progress = progress
 
     def run(self) -> Trajectory:
+        """Run the controller until every robot is home, the budget is spent, or no robot
+        makes progress; returns the frozen record of the run."""
         world = self.world
         n = world.n_robots
         goals = world.goals
-        speeds = world.max_speeds * world.dt
-        controller_rng = make_rng(self.seed, "controller")
-        obstacle_rng = make_rng(self.seed, "obstacles")
         t0 = time.perf_counter()
-        self.controller.reset(world, self.plan, controller_rng)
+        self.controller.reset(world, self.plan, make_rng(self.seed, "controller"))
         reset_time = time.perf_counter() - t0
 
         watch = ProgressWatch(goals, world.starts, self.progress_window, GOAL_TOLERANCE)
         hopeless = np.zeros(n, dtype=bool)
         if getattr(self.controller, "capabilities", None) is not None and self.controller.capabilities.grid_based:
             hopeless = unreachable_goals(world, world.radii)
-
-        state = initial_obstacle_state(world)
-        positions = [world.starts.copy()]
-        obstacle_positions = [state.positions.copy()]
-        contacts, events, modes, mode_names = [], [], [], {}
-        status = TRUNCATED
+        stepper = WorldStepper(world, sensing=self.sensing)
+        stepper.reset(self.seed)
+        events = stepper.events_
         for i in np.flatnonzero(hopeless):
             events.append({"step": 0, "kind": "goal_unreachable", "robot": int(i),
                            "detail": "no path in the static world from the start to the goal"})
-        pos = positions[0]
-        previous_obstacles = state.positions.copy()
+        modes: list[list[int]] = []
+        mode_names: dict[str, int] = {}
+        status = TRUNCATED
         act_time = 0.0
         for step in range(1, self.max_steps + 1):
-            keep_clear = np.concatenate([pos, goals]) if n else None
-            state = advance_obstacles(world, state, obstacle_rng, keep_clear)
-            obs_before, obs_after = obstacle_positions[-1], state.positions
-            at_goal = np.linalg.norm(pos - goals, axis=1) <= GOAL_TOLERANCE
-            observation = Observation(step, world.dt, pos.copy(), goals, at_goal, obs_after.copy(),
-                                      previous_obstacles.copy(), sense(pos, obs_after, self.sensing, world.resolution))
+            stepper.begin_step()
             t_act = time.perf_counter()
-            decision = self.controller.act(observation)
+            decision = self.controller.act(stepper.observation())
             act_time += time.perf_counter() - t_act
             if not isinstance(decision, Decision):
                 try:
@@ -120,21 +111,19 @@ class Simulator:
                 except (TypeError, ValueError):
                     raise ConfigError(f"controller returned {type(decision).__name__}, not a Decision or an "
                                       "array of positions") from None
-            new_pos = self._validated(decision.positions, pos, speeds, step, events)
-            contacts.extend(step_contacts(world, step, pos, new_pos, obs_before, obs_after))
+            if np.shape(decision.positions) != (n, 2):
+                raise ConfigError(f"controller returned positions of shape {np.shape(decision.positions)}, "
+                                  f"expected {(n, 2)}")
+            stepper.end_step(decision.positions)
             if decision.modes is not None:
                 modes.append(self._mode_indices(decision.modes, mode_names, n))
             elif modes:
                 modes.append([mode_names.setdefault("", len(mode_names))] * n)
             for ev in decision.events:
                 events.append({"step": step, **ev})
-            previous_obstacles = obs_after.copy()
-            pos = new_pos
-            positions.append(pos)
-            obstacle_positions.append(obs_after.copy())
             if self.progress is not None:
                 self.progress(step, self.max_steps)
-            arrived = np.linalg.norm(pos - goals, axis=1) <= GOAL_TOLERANCE
+            arrived = stepper.at_goal()
             if np.all(arrived):
                 status = ALL_REACHED
                 break
@@ -143,34 +132,25 @@ class Simulator:
                 events.append({"step": step, "kind": "deadlock", "detail": "every robot not at its goal has a goal "
                                "it cannot reach (see the goal_unreachable events)"})
                 break
-            if watch.update(step, pos):
+            if watch.update(step, stepper.positions):
                 status = DEADLOCK
                 events.append({"step": step, "kind": "deadlock",
                                "detail": f"no robot came closer to its goal in {self.progress_window} steps"})
                 break
-            if step % self.deadlock_window == 0 and self._stalled(positions, goals):
+            if step % self.deadlock_window == 0 and self._stalled(stepper.positions_, goals):
                 status = DEADLOCK
                 events.append({"step": step, "kind": "deadlock",
                                "detail": f"no progress by unfinished robots in {self.deadlock_window} steps"})
                 break
         sim_time = time.perf_counter() - t0
         names = sorted(mode_names, key=mode_names.get)
-        return Trajectory(
-            scenario=world.name, seed=self.seed, dt=world.dt, resolution=world.resolution,
-            robot_ids=[r.id for r in world.robots], radii=world.radii, goals=goals,
-            positions=np.asarray(positions, float).reshape(len(positions), n, 2),
-            obstacle_ids=[o.id for o in world.moving_obstacles],
-            obstacle_positions=np.asarray(obstacle_positions, float).reshape(len(positions), -1, 2),
-            contacts=contacts, events=events,
-            modes=np.asarray(modes, np.int8) if modes else None, mode_names=names,
-            planned_paths=list(self.plan.paths) if self.plan is not None else [],
-            status=status, world=world.to_dict(),
-            static_map=world.static_map.blocked if world.static_map is not None else None,
+        traj = stepper.trajectory(
+            status, planned_paths=list(self.plan.paths) if self.plan is not None else [],
             meta={"controller": getattr(self.controller, "registered_name", type(self.controller).__name__),
                   "planner": self.plan.planner if self.plan is not None else None,
                   "sim_time_s": sim_time, "controller_time_s": act_time + reset_time,
-                  "controller_reset_s": reset_time, "max_steps": self.max_steps},
-        )
+                  "controller_reset_s": reset_time, "max_steps": self.max_steps})
+        return dataclasses.replace(traj, modes=np.asarray(modes, np.int8) if modes else None, mode_names=names)
 
     @staticmethod
     def _mode_indices(names, mode_names: dict[str, int], n: int) -> list[int]:
@@ -181,21 +161,6 @@ class Simulator:
         if len(mode_names) > MAX_MODE_NAMES:
             raise ConfigError(f"controller reported more than {MAX_MODE_NAMES} distinct behaviour names (modes)")
         return out
-
-    def _validated(self, proposed, pos, speeds, step: int, events: list) -> np.ndarray:
-        """The proposed positions with invalid moves replaced by staying put (and recorded)."""
-        proposed = np.asarray(proposed, dtype=float)
-        if proposed.shape != pos.shape:
-            raise ConfigError(f"controller returned positions of shape {proposed.shape}, expected {pos.shape}")
-        new = proposed.copy()
-        bad_value = ~np.all(np.isfinite(new), axis=1)
-        length = np.linalg.norm(np.where(bad_value[:, None], 0.0, new - pos), axis=1)
-        too_far = length > speeds * (1 + 1e-9) + 1e-12
-        for i in np.flatnonzero(bad_value | too_far):
-            detail = "not a finite position" if bad_value[i] else f"step {length[i]:.6g} > max {speeds[i]:.6g}"
-            events.append({"step": step, "kind": "invalid_move", "robot": int(i), "detail": detail})
-            new[i] = pos[i]
-        return new
 
     def _stalled(self, positions: list, goals: np.ndarray) -> bool:
         """True when every robot not at its goal visited at most two positions in the window."""

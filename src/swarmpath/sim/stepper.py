@@ -14,12 +14,12 @@ trajectory bit for bit:
    :func:`~swarmpath.sim.sensing.sense`), built once per step and only when asked for;
 3. the caller decides the next positions (agents' actions, a controller);
 4. :meth:`WorldStepper.end_step`: moves longer than ``max_speed * dt`` (or not finite) are
-   rejected, the robot stays and an ``invalid_move`` event is recorded (:func:`validate_moves`,
-   the rule of ``Simulator._validated``); the independent checker
+   rejected, the robot stays and an ``invalid_move`` event is recorded (:func:`validate_moves`); the independent checker
    (:func:`~swarmpath.sim.collisions.step_contacts`) decides the contacts; everything is
    recorded for :meth:`WorldStepper.trajectory`.
 
-Nothing here knows about Gymnasium or PettingZoo: the simulator could drive this object too.
+Nothing here knows about Gymnasium or PettingZoo: the simulator drives this object, and so do
+the environments of :mod:`swarmpath.env`.
 """
 from __future__ import annotations
 
@@ -33,12 +33,13 @@ from swarmpath.errors import ConfigError
 from swarmpath.rng import make_rng
 from swarmpath.sim.collisions import ROBOT_MOVING, ROBOT_ROBOT, ROBOT_STATIC, Contact, step_contacts
 from swarmpath.sim.sensing import sense
-from swarmpath.sim.simulator import GOAL_TOLERANCE
 from swarmpath.sim.trajectory import ALL_REACHED, Termination, Trajectory
 from swarmpath.world.moving import ObstacleState, advance_obstacles, initial_obstacle_state
 from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
+#: A robot is at its goal when its position is this close to it (world units).
+GOAL_TOLERANCE = 1e-9
 #: Contact kinds in the order of the per-robot count columns of :class:`StepOutcome`.
 CONTACT_KINDS = (ROBOT_ROBOT, ROBOT_STATIC, ROBOT_MOVING)
 
