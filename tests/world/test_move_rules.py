@@ -89,3 +89,21 @@ def test_raster_clearance_equals_brute_force(seed, reach, cell) -> None:
     d = g.segment_box_distance(a[:, None], b[:, None], lo[None], lo[None] + cell) if len(xs) else np.full((20, 1), np.inf)
     expected = np.where(d <= reach + g.EPS, d, np.inf).min(axis=1)
     assert np.array_equal(sm.segment_clearance(a, b, reach), expected)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10**6), cell=st.sampled_from([0.5, 1.0, 2.0]))
+def test_raster_hits_of_centre_to_centre_moves_equal_the_general_rule(seed, cell) -> None:
+    """The shortcut for point robots moving between neighbouring cell centres gives what
+    the general clearance computation gives (cells off the map included)."""
+    from swarmpath.world import geometry as g
+    from swarmpath.world.static_map import StaticMap
+
+    rng = np.random.default_rng(seed)
+    h, w = rng.integers(2, 12, 2)
+    sm = StaticMap(rng.random((h, w)) < 0.35, cell)
+    start = rng.integers(-1, [w + 1, h + 1], (200, 2))
+    a = (start + 0.5) * cell
+    b = (start + GRID_MOVES[rng.integers(0, 9, 200)] + 0.5) * cell
+    general = sm.segment_clearance(a, b, 0.0) < g.EPS
+    assert np.array_equal(sm.segment_hits(a, b, np.zeros(200)), general)

@@ -69,13 +69,11 @@ def robot_static_contacts(world, p0: FloatArray, p1: FloatArray, radii: FloatArr
     moved = np.flatnonzero(np.any(p0 != p1, axis=1))
     if len(moved) == 0:
         return []
-    hits = world.static_hits(p0[moved], p1[moved], radii[moved])
-    out = []
-    for k in np.flatnonzero(hits):
-        i = int(moved[k])
-        inside = bool(world.bounds.contains(p1[i], radii[i]))
-        out.append((i, "obstacle" if inside else "boundary"))
-    return out
+    hits = moved[world.static_hits(p0[moved], p1[moved], radii[moved])]
+    if len(hits) == 0:
+        return []
+    inside = world.bounds.contains(p1[hits], radii[hits])
+    return [(int(i), "obstacle" if ok else "boundary") for i, ok in zip(hits.tolist(), inside.tolist())]
 
 
 def _footprint_hits(shape, a: FloatArray, b: FloatArray, r: FloatArray) -> NDArray[np.bool_]:

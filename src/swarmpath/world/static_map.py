@@ -106,7 +106,36 @@ class StaticMap(Raster):
 
     def segment_hits(self, a: ArrayLike, b: ArrayLike, radius: ArrayLike) -> NDArray[np.bool_]:
         """Whether a disc of ``radius`` moved along each segment touches a blocked square
-        (for radius 0: touches at all, corner cutting included)."""
-        r = np.broadcast_to(np.asarray(radius, float), np.atleast_2d(np.asarray(a)).shape[:1])
-        d = self.segment_clearance(a, b, float(r.max(initial=0.0)))
-        return np.where(r > 0, d < r - g.EPS, d < g.EPS)
+        (for radius 0: touches at all, corner cutting included).
+
+        Point robots moving between centres of cells at most one cell apart (every grid
+        controller's move) take a shortcut: such a move touches exactly the closed squares of
+        its two cells and, for a diagonal, the two cells beside it; the tests hold the
+        shortcut to the general computation."""
+        a = np.atleast_2d(np.asarray(a, float))
+        b = np.atleast_2d(np.asarray(b, float))
+        r = np.broadcast_to(np.asarray(radius, float), a.shape[:1])
+        ca, cb = a / self.cell_size - 0.5, b / self.cell_size - 0.5
+        ia, ib = np.floor(ca), np.floor(cb)
+        simple = (r == 0) & np.all(ca == ia, axis=1) & np.all(cb == ib, axis=1) & \
+            np.all(np.abs(ib - ia) <= 1, axis=1)
+        out = np.empty(len(a), dtype=bool)
+        rest = ~simple
+        if rest.any():
+            d = self.segment_clearance(a[rest], b[rest], float(r[rest].max(initial=0.0)))
+            out[rest] = np.where(r[rest] > 0, d < r[rest] - g.EPS, d < g.EPS)
+        if simple.any():
+            ia, ib = ia[simple].astype(np.int64), ib[simple].astype(np.int64)
+            hit = self._blocked_or_outside(ia[:, 0], ia[:, 1]) | self._blocked_or_outside(ib[:, 0], ib[:, 1])
+            diagonal = (ia[:, 0] != ib[:, 0]) & (ia[:, 1] != ib[:, 1])
+            corner = self._blocked_or_outside(ia[:, 0], ib[:, 1]) | self._blocked_or_outside(ib[:, 0], ia[:, 1])
+            out[simple] = hit | (diagonal & corner)
+        return out
+
+    def _blocked_or_outside(self, x: IntArray, y: IntArray) -> NDArray[np.bool_]:
+        """Whether cells (x, y) are blocked; cells outside the map are free, as for the
+        general computation (the workspace bounds are checked separately)."""
+        inside = (x >= 0) & (x < self.width) & (y >= 0) & (y < self.height)
+        out = np.zeros(len(x), dtype=bool)
+        out[inside] = self.blocked[y[inside], x[inside]]
+        return out
