@@ -16,12 +16,12 @@ EXAMPLES = Path(__file__).parents[1] / "examples"
     ("optimize.py", "amopso3"),
     ("env_rollouts.py", "replay written"),
 ])
+def test_example_runs(script: str, expect: str) -> None:
+    out = subprocess.run([sys.executable, str(EXAMPLES / script)], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert expect in out.stdout, out.stdout
 
 
 def test_every_example_is_run() -> None:
     listed = {"quickstart.py", "custom_controller.py", "optimize.py", "env_rollouts.py"}
     assert {p.name for p in EXAMPLES.glob("*.py")} == listed
-def test_example_runs(script: str, expect: str) -> None:
-    out = subprocess.run([sys.executable, str(EXAMPLES / script)], capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr[-2000:]
-    assert expect in out.stdout, out.stdout
