@@ -10,6 +10,7 @@ from typing import NoReturn
 import click
 
 from swarmpath.cli import maps, optimize, reproduce, run, scenarios  # noqa: F401  (they register commands)
+from swarmpath.cli import bench  # noqa: F401  (swarmpath bench: sweeps, stores, reports)
 from swarmpath.cli.common import EXIT_BAD_INPUT
 from swarmpath.cli.group import cli
 from swarmpath.errors import SwarmpathError

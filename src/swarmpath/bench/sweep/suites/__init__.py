@@ -1,0 +1,1 @@
+"""The built-in suites (``swarmpath bench NAME``): one YAML file each, read as package data."""
