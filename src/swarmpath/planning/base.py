@@ -8,6 +8,7 @@ from __future__ import annotations
 import abc
 import enum
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, ClassVar, Mapping
 
 import numpy as np
@@ -98,6 +99,19 @@ class Plan:
 
     def __getitem__(self, i: int) -> RobotPlan:
         return self.robots[i]
+
+    def save(self, path: str | Path) -> Path:
+        """Write the plan to ``path`` as JSON (format: swarmpath.planning.plan_io)."""
+        from swarmpath.planning.plan_io import write_plan
+
+        return write_plan(self, path)
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Plan":
+        """Read a plan written by :meth:`save` (a malformed file raises ConfigError)."""
+        from swarmpath.planning.plan_io import read_plan
+
+        return read_plan(path, plan_type=cls, robot_type=RobotPlan, status_type=PlanStatus)
 
 
 class Planner(abc.ABC):
