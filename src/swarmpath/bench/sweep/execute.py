@@ -51,6 +51,7 @@ def _run_ours(world: Any, job: Job):
     if not job.planner_params and not job.controller_params:
         return run_world(world, planner=job.planner, controller=job.controller, seed=job.seed,
                          max_steps=job.max_steps).summary
+    from swarmpath.bench.sweep.params import construct
     from swarmpath.metrics.summary import run_summary
 
     planner, controller = choose_pair(world, job.planner, job.controller)
@@ -58,11 +59,11 @@ def _run_ours(world: Any, job: Job):
     planning_time = 0.0
     if planner != "none":
         t0 = time.perf_counter()
-        plan = PLANNERS.get(planner)(**job.planner_params).plan(world, rng=job.seed)
+        plan = construct(PLANNERS.get(planner), job.planner_params).plan(world, rng=job.seed)
         planning_time = time.perf_counter() - t0
         if not plan.robots:
             plan = None
-    traj = simulate(world, CONTROLLERS.get(controller)(**job.controller_params), plan, seed=job.seed,
+    traj = simulate(world, construct(CONTROLLERS.get(controller), job.controller_params), plan, seed=job.seed,
                     max_steps=job.max_steps)
     traj = dataclasses.replace(traj, meta={**traj.meta, "planning_time_s": planning_time})
     return run_summary(world, traj, plan, planner=planner, controller=controller, planning_time_s=planning_time)
@@ -73,6 +74,7 @@ def _run_peer(world: Any, job: Job) -> tuple[Any, int, str]:
     the number of violations ``validate_trajectory`` finds and the peer's name and version."""
     import numpy as np
 
+    from swarmpath.bench.sweep.params import construct
     from swarmpath.bench.sweep.peers import PEERS
     from swarmpath.metrics.summary import run_summary
     from swarmpath.sim.collisions import step_contacts
@@ -80,7 +82,7 @@ def _run_peer(world: Any, job: Job) -> tuple[Any, int, str]:
     from swarmpath.sim.trajectory import Termination, Trajectory
     from swarmpath.testing import validate_trajectory
 
-    peer = PEERS[job.controller](**job.controller_params)
+    peer = construct(PEERS[job.controller], job.controller_params)
     budget = job.max_steps or default_max_steps(world)
     positions, info = peer.solve(world, seed=job.seed, max_steps=budget, time_limit=0.9 * job.timeout_s)
     positions = np.asarray(positions, float)

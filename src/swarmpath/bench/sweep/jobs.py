@@ -115,8 +115,17 @@ def pairs(suite: Suite, inst: Instance) -> list[tuple[Any, Any]]:
 
 
 def expand(suite: Suite) -> Expansion:
-    """All jobs of ``suite``; raises :class:`SuiteError` for a world that cannot be built."""
+    """All jobs of ``suite``; raises :class:`SuiteError` (naming the suite file and the
+    entry) for a file that is missing or a world that cannot be built."""
+    try:
+        return _expand(suite)
+    except SuiteError as exc:
+        raise exc.with_source(suite.source) from None
+
+
+def _expand(suite: Suite) -> Expansion:
     from swarmpath import __version__
+    from swarmpath.bench.sweep.params import construct
     from swarmpath.bench.sweep.peers import PEERS
     from swarmpath.sim.simulator import default_max_steps
 
@@ -152,7 +161,7 @@ def expand(suite: Suite) -> Expansion:
                 _check_size(len(jobs))
         for peer_item in inst.overrides.get("peers", m.peers):
             name, params = named(peer_item)
-            peer = PEERS[name](**params)
+            peer = construct(PEERS[name], params)
             reason = peer.supports(world)
             if reason is None:
                 reason = peer.missing()

@@ -23,9 +23,10 @@ import numpy as np
 
 from swarmpath.errors import ConfigError
 
-#: A robot of a continuous peer within this distance of its goal is placed on it (RVO2's
-#: floating-point steps end near, not exactly on, the goal; swarmpath's arrival test is exact).
-SNAP = 1e-6
+#: A robot of a continuous peer within this distance of its goal, relative to the largest
+#: goal coordinate, is placed on it: RVO2 computes in single precision (about 1e-7 relative),
+#: so its robots end near, not exactly on, their goals; swarmpath's arrival test is exact.
+SNAP = 1e-5
 
 
 class Peer:
@@ -193,6 +194,7 @@ class PyrvoORCA(Peer):
         if world.obstacles:
             sim.process_obstacles()
         goals = world.goals
+        snap = SNAP * max(1.0, float(np.abs(goals).max(initial=0.0)))
         speeds = world.max_speeds
         pos = world.starts.copy()
         rows = [pos.copy()]
@@ -206,7 +208,7 @@ class PyrvoORCA(Peer):
                     sim.set_agent_pref_velocity(i, (float(pref[i, 0]), float(pref[i, 1])))
                 sim.do_step()
                 pos = np.array([sim.get_agent_position(i).to_tuple() for i in range(world.n_robots)], float)
-                near = np.linalg.norm(goals - pos, axis=1) <= SNAP
+                near = np.linalg.norm(goals - pos, axis=1) <= snap
                 for i in np.flatnonzero(near & np.any(pos != goals, axis=1)):
                     sim.set_agent_position(int(i), (float(goals[i, 0]), float(goals[i, 1])))
                     pos[i] = goals[i]

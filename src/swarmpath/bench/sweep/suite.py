@@ -326,7 +326,7 @@ def check_suite(suite: Suite) -> None:
             field = f"{where}[{k}]" if indexed else where
             if name not in registry:
                 known = ", ".join(registry.names() if hasattr(registry, "names") else sorted(registry))
-                raise SuiteError(f"unknown {kind} {preview(name)!s} (choose from: {known})", field=field)
+                raise SuiteError(f"unknown {kind} '{preview(name)}' (choose from: {known})", field=field)
             cls = registry.get(name) if hasattr(registry, "get") else registry[name]
             check_params(cls, params, f"{field}.params", f"{kind} {name}")
             ident = (name, repr(sorted(params.items())))
@@ -381,7 +381,7 @@ def check_suite(suite: Suite) -> None:
                 raise SuiteError(f"more than {MAX_LIST} agent counts", field=f"{where}.agents")
         if form == "generator":
             if entry.generator not in GENERATORS:
-                raise SuiteError(f"unknown generator {preview(entry.generator)!s} (choose from: "
+                raise SuiteError(f"unknown generator '{preview(entry.generator)}' (choose from: "
                                  f"{', '.join(sorted(GENERATORS))})", field=f"{where}.generator")
             try:
                 GENERATORS[entry.generator].check(entry.params, f"{where}.params", MAX_LIST)
@@ -395,8 +395,11 @@ def check_suite(suite: Suite) -> None:
 
 
 def check_params(cls: Any, params: dict[str, Any], field: str, what: str) -> None:
-    """``cls(**params)`` must be accepted: known keyword names, and values the constructor
-    takes (constructors store configuration only, so this is cheap)."""
+    """``cls`` must accept ``params`` (through :func:`~swarmpath.bench.sweep.params.construct`):
+    known keyword names, and values the constructor takes (constructors store configuration
+    only, so this is cheap)."""
+    from swarmpath.bench.sweep.params import construct, describe
+
     try:
         sig = inspect.signature(cls)
     except (TypeError, ValueError):
@@ -408,12 +411,13 @@ def check_params(cls: Any, params: dict[str, Any], field: str, what: str) -> Non
             takes = [p.name for p in sig.parameters.values()
                      if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and p.name != "self"]
             unknown = [k for k in params if k not in takes]
-            problem = (f"unknown parameter {preview(unknown[0])!s} of {what}" if unknown
+            problem = (f"unknown parameter '{preview(unknown[0])}' of {what}" if unknown
                        else f"parameters do not fit {what}")
-            raise SuiteError(f"{problem} (it takes: {', '.join(takes) or 'none'})", field=field) from None
+            raise SuiteError(f"{problem} (it takes: {describe(cls)})", field=field) from None
     try:
-        cls(**params)
+        construct(cls, params)
     except SwarmpathError as exc:
         raise SuiteError(str(exc), field=field) from None
     except (TypeError, ValueError) as exc:
-        raise SuiteError(f"{what} refuses these parameters: {preview(str(exc), 200)}", field=field) from None
+        raise SuiteError(f"{what} refuses these parameters: {preview(str(exc), 200)} (it takes: {describe(cls)})",
+                         field=field) from None
