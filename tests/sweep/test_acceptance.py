@@ -5,7 +5,6 @@ its time limit is stored as a timeout and the sweep goes on."""
 from __future__ import annotations
 
 import json
-import os
 import signal
 import sqlite3
 import subprocess

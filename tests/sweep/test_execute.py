@@ -55,7 +55,8 @@ def test_parameters_take_the_same_path_to_the_same_outcome(tmp_path: Path) -> No
 
 def test_nested_parameters_reach_the_controller(tmp_path: Path) -> None:
     (job,) = jobs_of(tmp_path, "name: t\nscenarios:\n  - {generator: antipodal, params: {n: 3}}\n"
-                               "controllers: [{name: pso-reactive, params: {swarm: {n_particles: 3, n_iterations: 2}}}]\n"
+                               "controllers: [{name: pso-reactive, params: {swarm: {n_particles: 3, "
+                               "n_iterations: 2}}}]\n"
                                "max_steps: 5\n")
     result = run_job(job)
     assert result["status"] == "ok", result["error"]

@@ -50,7 +50,8 @@ timeout_s: 60                       # per job
     assert sorted({j.n_agents for j in e.jobs if j.scenario == "random-32-32-10"}) == [25, 50, 100]
     assert {(j.planner, j.controller) for j in e.jobs} <= {(p, c) for p in ("none", "astar")
                                                           for c in ("cat-swarm", "pso-predictive")}
-    assert all(j.controller_params == {"swarm": {"n_particles": 10}} for j in e.jobs if j.controller == "pso-predictive")
+    pso = [j for j in e.jobs if j.controller == "pso-predictive"]
+    assert pso and all(j.controller_params == {"swarm": {"n_particles": 10}} for j in pso)
     # jaleel2016's point robots suit cat-swarm; nothing is skipped for it
     assert {j.controller for j in e.jobs if j.scenario == "jaleel2016"} == {"cat-swarm", "pso-predictive"}
 
