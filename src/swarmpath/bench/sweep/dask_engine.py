@@ -26,7 +26,11 @@ def dask_missing() -> str | None:
     import importlib.util
 
     for name in ("dask", "distributed"):
-        if importlib.util.find_spec(name) is None:
+        try:
+            spec = importlib.util.find_spec(name)
+        except (ImportError, ValueError):     # a broken or blocked installation counts as none
+            spec = None
+        if spec is None:
             return f"--dask needs dask and distributed, and {name} is not installed (pip install \"swarmpath[dask]\")"
     return None
 

@@ -38,7 +38,11 @@ class Peer:
 
     def missing(self) -> str | None:
         """Why the peer cannot run here (its package is not installed), or None."""
-        if importlib.util.find_spec(self.package) is None:
+        try:
+            spec = importlib.util.find_spec(self.package)
+        except (ImportError, ValueError):     # a broken or blocked installation counts as none
+            spec = None
+        if spec is None:
             return f"{self.package} is not installed (pip install \"swarmpath[bench]\" or pip install {self.dist})"
         return None
 

@@ -237,6 +237,7 @@ def write_report(store_path: str | Path, out_dir: str | Path, by: Sequence[str] 
         skipped = store.skipped()
     rows = job_rows(stored)
     out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
     written = [_write_csv(out / "jobs.csv", JOB_COLUMNS, rows)]
     summary = summarise(rows, by)
     written.append(_write_csv(out / "summary.csv", list(by) + list(SUMMARY_COLUMNS), summary))
