@@ -139,4 +139,4 @@ def test_the_command_line_says_it_in_one_line_with_exit_code_2(tmp_path: Path) -
 
 def test_committed_json_schema_is_generated_from_the_model() -> None:
     committed = json.loads((ROOT / "docs" / "suite.schema.json").read_text())
-    assert committed == suite_json_schema()
+    assert committed == suite_json_schema(), "run: python docs/regenerate.py"

@@ -100,7 +100,7 @@ def run_suite(suite: str, store: str, workers: int | None, dask: str | None, ret
     s = outcome.statuses
     out.print(f"{safe(outcome.suite)}: {outcome.total} jobs, {outcome.already} already in {safe(store)}; ran "
               f"{outcome.ran} in {outcome.wall_s:.1f} s: {s['ok']} ok, {s['error']} failed, {s['timeout']} timed out. "
-              f"Report: swarmpath bench report {safe(store)} --out DIR")
+              f"Report: swarmpath bench report {safe(store)} --out DIR", soft_wrap=True)
 
 
 def _skip_doc(s: Any) -> dict[str, Any]:
@@ -116,15 +116,16 @@ def _print_skipped(out, skipped: list[Any], limit: int = 12) -> None:
     for s in skipped:
         groups.setdefault((s.planner, s.controller, s.reason), []).append(s)
     total = sum(s.n_jobs for s in skipped)
-    out.print(f"skipped {total} job{'s' if total != 1 else ''} (pairs that cannot run together):")
+    out.print(f"skipped {total} job{'s' if total != 1 else ''} (pairs that cannot run together):", soft_wrap=True)
     for k, ((planner, controller, reason), items) in enumerate(sorted(groups.items())):
         if k == limit:
-            out.print(f"  ... and {len(groups) - limit} more (swarmpath bench report lists them all)")
+            out.print(f"  ... and {len(groups) - limit} more (swarmpath bench report lists them all)", soft_wrap=True)
             break
         who = controller if planner == "-" else f"{planner} + {controller}"
         worlds = sorted({s.scenario for s in items})
         where = ", ".join(worlds[:3]) + (f" and {len(worlds) - 3} more" if len(worlds) > 3 else "")
-        out.print(f"  {safe(who)} on {safe(where)} ({sum(s.n_jobs for s in items)} jobs): {safe(reason)}")
+        out.print(f"  {safe(who)} on {safe(where)} ({sum(s.n_jobs for s in items)} jobs): {safe(reason)}",
+                  soft_wrap=True)
 
 
 def _print_list(out, name: str, expansion: Any, stored: dict[str, str], json_mode: bool) -> None:
@@ -147,7 +148,7 @@ def _print_list(out, name: str, expansion: Any, stored: dict[str, str], json_mod
                       str(sum(1 for j in items if j.key in stored)))
     out.print(table)
     _print_skipped(out, expansion.skipped)
-    out.print(f"{safe(name)}: {len(jobs)} jobs, {sum(1 for j in jobs if j.key in stored)} already stored")
+    out.print(f"{safe(name)}: {len(jobs)} jobs, {sum(1 for j in jobs if j.key in stored)} already stored", soft_wrap=True)
 
 
 @bench.command("report")
@@ -169,7 +170,8 @@ def report(store: str, by: str | None, out: str | None) -> None:
     out_console = console(False)
     with progress(out_console, "plotting", None, "plot") as advance:
         written = write_report(store, folder, fields, progress=advance)
-    out_console.print(f"wrote {len(written)} files to {safe(folder)}: {', '.join(safe(p.name) for p in written)}")
+    out_console.print(f"wrote {len(written)} files to {safe(folder)}: {', '.join(safe(p.name) for p in written)}",
+                      soft_wrap=True)
 
 
 @bench.command("suites")

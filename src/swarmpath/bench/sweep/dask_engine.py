@@ -56,7 +56,7 @@ class DaskEngine:
                                        dashboard_address=None, silence_logs=50)
             return Client(cluster), cluster
         try:
-            return Client(self.address, timeout="20s"), None
+            return Client(self.address, timeout="10s"), None
         except (OSError, TimeoutError, ValueError) as exc:
             raise ConfigError(f"--dask {self.address}: cannot reach a Dask scheduler there ({exc})") from None
 

@@ -111,7 +111,7 @@ def run_sweep(suite: Suite, store_path: str | Path, *, workers: int = 1, dask: s
         def on_term(signum: int, frame: Any) -> None:
             raise _Interrupt()
 
-        state = "interrupted"
+        state = "failed"
         try:
             signal.signal(signal.SIGTERM, on_term)
         except ValueError:          # not the main thread: leave SIGTERM alone
@@ -124,6 +124,7 @@ def run_sweep(suite: Suite, store_path: str | Path, *, workers: int = 1, dask: s
             state = "finished"
         except (KeyboardInterrupt, _Interrupt):
             outcome.interrupted = True
+            state = "interrupted"
             raise SweepInterrupted(outcome) from None
         finally:
             if previous is not None:
