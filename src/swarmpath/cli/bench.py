@@ -148,7 +148,8 @@ def _print_list(out, name: str, expansion: Any, stored: dict[str, str], json_mod
                       str(sum(1 for j in items if j.key in stored)))
     out.print(table)
     _print_skipped(out, expansion.skipped)
-    out.print(f"{safe(name)}: {len(jobs)} jobs, {sum(1 for j in jobs if j.key in stored)} already stored", soft_wrap=True)
+    already = sum(1 for j in jobs if j.key in stored)
+    out.print(f"{safe(name)}: {len(jobs)} jobs, {already} already stored", soft_wrap=True)
 
 
 @bench.command("report")
