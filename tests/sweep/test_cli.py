@@ -110,3 +110,14 @@ def test_everything_but_dask_works_without_dask_and_pandas(tmp_path: Path) -> No
                        capture_output=True, text=True, timeout=300)
     one_line_error(r, "--dask needs dask and distributed", 'pip install "swarmpath[dask]"')
     assert not (tmp_path / "d.db").exists()
+
+
+def test_importing_the_sweep_package_is_cheap() -> None:
+    """The reproductions registry imports swarmpath.bench and its packages: no dask, no pandas,
+    no simulator there."""
+    code = ("import sys, swarmpath.bench, swarmpath.bench.sweep\n"
+            "heavy = [m for m in ('dask', 'distributed', 'pandas', 'swarmpath.sim', 'matplotlib')\n"
+            "         if m in sys.modules]\n"
+            "print(heavy)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0 and r.stdout.strip() == "[]", (r.stdout, r.stderr)

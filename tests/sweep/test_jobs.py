@@ -122,3 +122,13 @@ def test_a_copied_builtin_movingai_file_gives_the_same_keys(tmp_path: Path) -> N
     copied = expand(load_suite(suite_in(tmp_path / "b", text.replace("MAP", "copy-empty-8-8.map")
                                         .replace("SCEN", "copy-empty-8-8-even-10.scen"))))
     assert [j.key for j in builtin.jobs] == [j.key for j in copied.jobs]
+
+
+def test_files_are_relative_to_the_suite_not_the_current_folder(tmp_path: Path, monkeypatch) -> None:
+    (tmp_path / "here").mkdir()
+    (tmp_path / "here" / "karim2014").write_text(WORLD)     # a file named like a built-in scenario
+    monkeypatch.chdir(tmp_path / "here")
+    suite = suite_in(tmp_path / "suite", "name: r\nscenarios: [karim2014, corridor.yaml]\ncontrollers: [pibt]\n")
+    e = expand(load_suite(suite))
+    assert sorted(j.scenario for j in e.jobs) == ["corridor", "karim2014"]
+    assert {j.spec["kind"] for j in e.jobs} == {"builtin", "file"}

@@ -79,12 +79,19 @@ def _scenario_file_identity(path: Path) -> str:
 
 
 def _resolve(base_dir: Path, text: str) -> Path:
-    """A file relative to the suite's folder, else a built-in MovingAI file by its name."""
-    from swarmpath.world.movingai import resolve_movingai
+    """A file relative to the suite's folder (or absolute), else a built-in MovingAI file named
+    by its bare file name; never a file relative to the current folder."""
+    from importlib import resources
 
     p = Path(text)
     candidate = p if p.is_absolute() else base_dir / p
-    return candidate.resolve() if candidate.exists() else resolve_movingai(text)
+    if candidate.exists():
+        return candidate.resolve()
+    if p.name == text:
+        builtin = resources.files("swarmpath.data.movingai").joinpath(p.name)
+        if builtin.is_file():
+            return Path(str(builtin))
+    return candidate
 
 
 def _obstacle_settings(entry: ScenarioEntryModel | None) -> list[dict[str, Any] | None]:
