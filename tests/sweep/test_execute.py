@@ -38,7 +38,8 @@ def test_a_job_gives_what_run_world_gives(tmp_path: Path, scenario: str, planner
     assert result["status"] == "ok", result["error"]
     expected = run_world(load_scenario(scenario), planner=planner, controller=controller, seed=4, max_steps=60)
     assert result["outcome"] == without_timings(expected.summary.to_dict())
-    assert set(result["timings"]) == {*TIMING_FIELDS, "wall_s"}
+    assert set(result["timings"]) == {*TIMING_FIELDS, "wall_s", "setup_s"}
+    assert run_job(job)["timings"]["setup_s"] == 0.0          # the world is built once per worker
 
 
 def test_parameters_take_the_same_path_to_the_same_outcome(tmp_path: Path) -> None:

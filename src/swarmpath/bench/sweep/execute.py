@@ -128,12 +128,16 @@ def describe_error(exc: BaseException) -> str:
 def run_job(job: Job) -> dict[str, Any]:
     """Run ``job`` and return its result: ``status`` ("ok" or "error"), ``error``, the
     ``outcome`` (the ``run --json`` object without timings), ``lower_bound``, ``violations``
-    (peers), ``source`` and ``timings``."""
+    (peers), ``source`` and ``timings``: ``setup_s`` (building the world and its lower bound,
+    0 when this worker already had them), ``wall_s`` (the run itself: plan, simulate,
+    summarise), and the run's own planning and simulation times."""
     t0 = time.perf_counter()
     out: dict[str, Any] = {"key": job.key, "status": "ok", "error": None, "outcome": None, "lower_bound": None,
                            "violations": None, "source": "swarmpath", "timings": {}}
+    setup = 0.0
     try:
         world, bound = _world(job)
+        setup = time.perf_counter() - t0
         if job.peer:
             summary, out["violations"], out["source"] = _run_peer(world, job)
         else:
@@ -144,5 +148,6 @@ def run_job(job: Job) -> dict[str, Any]:
         out["lower_bound"] = bound
     except Exception as exc:   # noqa: BLE001 - a job's failure is its result, never the sweep's
         out.update(status="error", error=describe_error(exc), outcome=None)
-    out["timings"]["wall_s"] = time.perf_counter() - t0
+    out["timings"]["setup_s"] = setup
+    out["timings"]["wall_s"] = time.perf_counter() - t0 - setup
     return out

@@ -46,7 +46,8 @@ def _child_env() -> dict[str, str]:
 def timeout_result(job: Job, elapsed: float) -> dict[str, Any]:
     """The stored result of a job that outlived its limit."""
     return {"key": job.key, "status": "timeout", "error": f"over the time limit of {job.timeout_s:g} s",
-            "outcome": None, "lower_bound": None, "violations": None, "source": "", "timings": {"wall_s": elapsed}}
+            "outcome": None, "lower_bound": None, "violations": None, "source": "",
+            "timings": {"wall_s": elapsed, "setup_s": 0.0}}
 
 
 def died_result(job: Job, code: int | None, elapsed: float) -> dict[str, Any]:
@@ -54,7 +55,8 @@ def died_result(job: Job, code: int | None, elapsed: float) -> dict[str, Any]:
     the machine's memory killer)."""
     how = f"signal {signal.Signals(-code).name}" if code is not None and code < 0 else f"exit code {code}"
     return {"key": job.key, "status": "error", "error": f"the worker process died while running the job ({how})",
-            "outcome": None, "lower_bound": None, "violations": None, "source": "", "timings": {"wall_s": elapsed}}
+            "outcome": None, "lower_bound": None, "violations": None, "source": "",
+            "timings": {"wall_s": elapsed, "setup_s": 0.0}}
 
 
 class Worker:

@@ -34,7 +34,7 @@ JOB_COLUMNS = ("key", "suite", "scenario", "detail", "n_agents", "n_moving", "mo
                "method", "seed", "status", "success", "reached", "n_robots", "isr", "sum_of_costs", "lower_bound",
                "soc_over_lb", "makespan", "flowtime", "sum_of_lengths", "contacts", "robot_robot", "robot_static",
                "robot_moving", "deadlocks", "invalid_moves", "violations", "min_clearance", "steps", "run_status",
-               "source", "wall_s", "planning_time_s", "sim_time_s", "planner_params", "controller_params",
+               "source", "wall_s", "setup_s", "planning_time_s", "sim_time_s", "planner_params", "controller_params",
                "max_steps", "error")
 #: Fields a report may group by.
 GROUP_FIELDS = ("suite", "scenario", "detail", "n_agents", "n_moving", "motion", "planner", "controller", "method",

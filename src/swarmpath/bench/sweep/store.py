@@ -6,7 +6,8 @@ Tables:
   step budget), its status (``ok``, ``error``, ``timeout``) and error, and every field of
   ``swarmpath run --json`` except timings (flattened into columns, and whole in ``outcome``);
   outcomes only, so two stores of the same suite compare equal whatever ran them;
-- ``timings``: per job, wall time in the worker, planning and simulation time, the engine;
+- ``timings``: per job, the run's wall time in the worker, the time spent building its world
+  (0 when the worker had it already), planning and simulation time, the engine;
 - ``skipped``: planner/controller pairs (and peers) a suite could not run, and why;
 - ``sweeps``: each ``swarmpath bench`` call (suite, engine, workers, jobs run, start and end).
 
@@ -44,8 +45,8 @@ RESULT_COLUMNS: tuple[tuple[str, str], ...] = (
     ("violations", "INTEGER"), ("swarmpath_version", "TEXT"), ("outcome", "TEXT"),
 )
 TIMING_COLUMNS: tuple[tuple[str, str], ...] = (
-    ("key", "TEXT PRIMARY KEY"), ("wall_s", "REAL"), ("planning_time_s", "REAL"), ("sim_time_s", "REAL"),
-    ("engine", "TEXT"), ("finished_at", "REAL"),
+    ("key", "TEXT PRIMARY KEY"), ("wall_s", "REAL"), ("setup_s", "REAL"), ("planning_time_s", "REAL"),
+    ("sim_time_s", "REAL"), ("engine", "TEXT"), ("finished_at", "REAL"),
 )
 STATUSES = ("ok", "error", "timeout")
 
@@ -213,10 +214,10 @@ class Store:
                                   f"({', '.join('?' for _ in names)})", [row[n] for n in names])
             added = cur.rowcount == 1
             if added:
-                self.db.execute("INSERT OR REPLACE INTO timings (key, wall_s, planning_time_s, sim_time_s, engine, "
-                                "finished_at) VALUES (?, ?, ?, ?, ?, ?)",
-                                (job.key, t.get("wall_s"), t.get("planning_time_s"), t.get("sim_time_s"), engine,
-                                 time.time()))
+                self.db.execute("INSERT OR REPLACE INTO timings (key, wall_s, setup_s, planning_time_s, sim_time_s, "
+                                "engine, finished_at) VALUES (?, ?, ?, ?, ?, ?, ?)",
+                                (job.key, t.get("wall_s"), t.get("setup_s"), t.get("planning_time_s"),
+                                 t.get("sim_time_s"), engine, time.time()))
             self.db.execute("COMMIT")
         except BaseException:
             self.db.execute("ROLLBACK")
