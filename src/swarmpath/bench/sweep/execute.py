@@ -24,8 +24,9 @@ WORLD_CACHE = 16
 _WORLDS: "OrderedDict[tuple[str, int | None], tuple[Any, int | None]]" = OrderedDict()
 
 
-def _world(job: Job) -> tuple[Any, int | None]:
-    """The job's world and its lower bound, built once per worker (worlds are immutable)."""
+def _world(job: Job) -> tuple[Any, int | None, float]:
+    """The job's world, its lower bound and the seconds spent building them (0 when this
+    worker built them for an earlier job: worlds are immutable)."""
     from swarmpath.bench.sweep.bounds import lower_bound
     from swarmpath.bench.sweep.worlds import build_world
 
@@ -33,13 +34,14 @@ def _world(job: Job) -> tuple[Any, int | None]:
     hit = _WORLDS.get(cache_key)
     if hit is not None:
         _WORLDS.move_to_end(cache_key)
-        return hit
+        return (*hit, 0.0)
+    t0 = time.perf_counter()
     world = build_world(job.spec, job.seed)
     entry = (world, lower_bound(world))
     _WORLDS[cache_key] = entry
     while len(_WORLDS) > WORLD_CACHE:
         _WORLDS.popitem(last=False)
-    return entry
+    return (*entry, time.perf_counter() - t0)
 
 
 def _run_ours(world: Any, job: Job):
@@ -136,8 +138,7 @@ def run_job(job: Job) -> dict[str, Any]:
                            "violations": None, "source": "swarmpath", "timings": {}}
     setup = 0.0
     try:
-        world, bound = _world(job)
-        setup = time.perf_counter() - t0
+        world, bound, setup = _world(job)
         if job.peer:
             summary, out["violations"], out["source"] = _run_peer(world, job)
         else:
@@ -149,5 +150,5 @@ def run_job(job: Job) -> dict[str, Any]:
     except Exception as exc:   # noqa: BLE001 - a job's failure is its result, never the sweep's
         out.update(status="error", error=describe_error(exc), outcome=None)
     out["timings"]["setup_s"] = setup
-    out["timings"]["wall_s"] = time.perf_counter() - t0 - setup
+    out["timings"]["wall_s"] = max(0.0, time.perf_counter() - t0 - setup)
     return out
