@@ -168,6 +168,10 @@ def plot_series(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
+DASHES = ("-", "--", "-.", ":")
+
+
 def _plot(path: Path, measure: str, label: str, series: list[dict[str, Any]]) -> Path:
     import matplotlib
 
@@ -186,9 +190,10 @@ def _plot(path: Path, measure: str, label: str, series: list[dict[str, Any]]) ->
         for j, method in enumerate(methods):
             pts = sorted((p["n_agents"], p["value"]) for p in points if p["scenario"] == scenario
                          and p["method"] == method)
-            if pts:
-                ax.plot([x for x, _ in pts], [y for _, y in pts], marker="o", color=colours(j % colours.N),
-                        label=method)
+            if pts:   # methods that coincide stay visible: each its own marker, dash and size
+                ax.plot([x for x, _ in pts], [y for _, y in pts], marker=MARKERS[j % len(MARKERS)],
+                        linestyle=DASHES[j % len(DASHES)], markersize=9 - 1.5 * (j % 4), alpha=0.85,
+                        color=colours(j % colours.N), label=method)
         ax.set_title(scenario, fontsize=9)
         ax.set_xlabel("agents")
         ax.set_ylabel(label, fontsize=8)
