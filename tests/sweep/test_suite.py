@@ -110,6 +110,7 @@ BAD = [
      "g: &g [*f, *f, *f, *f, *f, *f, *f, *f, *f, *f]\n", "", "aliases are expanded"),
     ("- just\n- a list\n", "", "must be a mapping"),
     ("name: s\nscenarios: [karim2014]\npeers: [pymapf-cbs]\n", "peers[0]", "unknown peer"),
+    ("name: s\nscenarios: [karim2014]\n", "controllers", "the suite runs nothing"),
 ]
 
 

@@ -354,6 +354,16 @@ def check_suite(suite: Suite) -> None:
     check_list(m.controllers, "controllers", CONTROLLERS, "controller")
     check_list(m.peers, "peers", PEERS, "peer")
     check_methods(m, "")
+
+    def runs_something(entry: Any) -> bool:
+        o = {} if isinstance(entry, str) else {k: getattr(entry, k) for k in ("controllers", "methods", "peers")}
+        methods = o.get("methods") if o.get("methods") is not None else m.methods
+        controllers = o.get("controllers") if o.get("controllers") is not None else m.controllers
+        peers = o.get("peers") if o.get("peers") is not None else m.peers
+        return bool(methods or controllers or peers)
+
+    if not any(runs_something(e) for e in m.scenarios):
+        raise SuiteError("the suite runs nothing: give controllers, methods or peers", field="controllers")
     for i, entry in enumerate(m.scenarios):
         where = f"scenarios[{i}]"
         if isinstance(entry, str):
