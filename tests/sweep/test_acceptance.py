@@ -183,3 +183,17 @@ def test_a_job_over_its_limit_is_a_timeout_and_the_sweep_goes_on(tmp_path: Path,
         (late,) = [row for row in s.rows() if row["status"] == "timeout"]
     assert late["controller"] == "pso-predictive" and late["error"] == "over the time limit of 3 s"
     assert 3.0 <= late["wall_s"] < 10 and late["success"] is None
+
+
+def test_dask_connects_to_a_running_scheduler(tmp_path: Path) -> None:
+    distributed = pytest.importorskip("distributed")
+    from sweep_support import TINY_SUITE
+
+    (tmp_path / "suite.yaml").write_text(TINY_SUITE)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  host="127.0.0.1") as cluster:
+        r = swarmpath("bench", "suite.yaml", "--store", "r.db", "--dask", cluster.scheduler_address, "--json",
+                      cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(r.stdout)
+    assert (doc["engine"], doc["ran"], doc["ok"]) == ("dask", 2, 2)
