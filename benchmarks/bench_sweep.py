@@ -7,10 +7,12 @@ Run on demand (not a test):  nice python benchmarks/bench_sweep.py [--seeds 16] 
    with 1 worker, then 2 workers (and ``--dask local`` with 2 workers when asked). Printed:
    wall time of each, the speed-up 1 -> 2 (target >= 1.8 on an otherwise idle 2-core machine),
    and whether the stored results are identical.
+   Also printed: how busy the workers were (the jobs' own time / workers / wall time): a
+   harness that keeps its workers fed is near 100 % whatever else the machine runs.
 2. Harness overhead: ``--tiny`` jobs of 1-10 ms (``karim2014``, 8 steps) with 1 worker. The
    harness is everything but the job itself: expanding the suite, starting the worker,
    sending each job and its result over a pipe, writing the store. Printed: the sweep's wall
-   time, the sum of the jobs' own wall times (measured in the worker), the worker start-up,
+   time, the sum of the jobs' own times (measured in the worker, building their worlds included), the worker start-up,
    and (wall - jobs - start-up) / jobs (target < 50 ms), next to a plain in-process Python
    loop over ``run_world`` for the same jobs.
 
@@ -63,7 +65,7 @@ def outcomes(db: Path) -> list[tuple]:
 def job_seconds(db: Path) -> float:
     con = sqlite3.connect(db)
     try:
-        return float(con.execute("SELECT sum(wall_s) FROM timings").fetchone()[0] or 0.0)
+        return float(con.execute("SELECT sum(wall_s + setup_s) FROM timings").fetchone()[0] or 0.0)
     finally:
         con.close()
 
@@ -114,8 +116,10 @@ def main() -> None:
         walls = {}
         for workers in (1, 2):
             walls[workers] = timed_sweep(cpu, folder / f"cpu-{workers}.db", workers)
+            own = job_seconds(folder / f"cpu-{workers}.db")
             print(f"CPU-bound suite, {n} jobs, {workers} worker{'s' if workers > 1 else ''}: {walls[workers]:.2f} s "
-                  f"(jobs' own time {job_seconds(folder / f'cpu-{workers}.db'):.2f} s)", flush=True)
+                  f"(jobs' own time {own:.2f} s: the workers were busy {100 * own / workers / walls[workers]:.0f} % "
+                  "of the wall time)", flush=True)
         same = outcomes(folder / "cpu-1.db") == outcomes(folder / "cpu-2.db")
         speedup = walls[1] / walls[2]
         print(f"  speed-up 1 -> 2 workers: {speedup:.2f}x (target >= 1.8: {'met' if speedup >= 1.8 else 'NOT met'}; "
