@@ -12,9 +12,9 @@ Run on demand (not a test):  nice python benchmarks/bench_sweep.py [--seeds 16] 
 2. Harness overhead: ``--tiny`` jobs of 1-10 ms (``karim2014``, 8 steps) with 1 worker. The
    harness is everything but the job itself: expanding the suite, starting the worker,
    sending each job and its result over a pipe, writing the store. Printed: the sweep's wall
-   time, the sum of the jobs' own times (measured in the worker, building their worlds included), the worker start-up,
-   and (wall - jobs - start-up) / jobs (target < 50 ms), next to a plain in-process Python
-   loop over ``run_world`` for the same jobs.
+   time, the sum of the jobs' own times (measured in the worker, building their worlds
+   included), the worker start-up, and (wall - jobs - start-up) / jobs (target < 50 ms), next
+   to a plain in-process Python loop over ``run_world`` for the same jobs.
 
 First a control: one pure-Python loop alone, then two copies in two processes. On a machine
 whose cores are shared with other work, the control's ratio is the most any 2-worker run can
