@@ -1,6 +1,6 @@
 """Sweeps: speed-up of 2 workers over 1 on a CPU-bound suite, and what the harness adds per job.
 
-Run on demand (not a test):  nice python benchmarks/bench_sweep.py [--seeds 16] [--tiny 200] [--dask]
+Run on demand (not a test):  nice python benchmarks/bench_sweep.py [--seeds 24] [--tiny 200] [--dask]
 
 1. CPU-bound suite: ``prediction2013`` with ``pso-predictive`` and ``jaleel2016`` with
    ``hybrid-apf`` + ``cat-swarm`` (0.3-2 s per job), ``--seeds`` seeds each, into a fresh store
@@ -101,7 +101,7 @@ def timed_sweep(suite_path: Path, db: Path, workers: int, dask: str | None = Non
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=16, help="seeds per method of the CPU-bound suite")
+    ap.add_argument("--seeds", type=int, default=24, help="seeds per method of the CPU-bound suite")
     ap.add_argument("--tiny", type=int, default=200, help="tiny jobs for the overhead measurement")
     ap.add_argument("--dask", action="store_true", help="also run the CPU-bound suite with --dask local")
     args = ap.parse_args()
