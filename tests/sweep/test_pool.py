@@ -72,3 +72,15 @@ def test_results_do_not_depend_on_the_worker(tmp_path: Path) -> None:
     finally:
         w.stop()
     assert here["outcome"] == there["outcome"] and here["lower_bound"] == there["lower_bound"]
+
+
+def test_a_worker_that_died_while_idle_is_replaced(tmp_path: Path) -> None:
+    quick, _ = jobs(tmp_path)
+    w = Worker().start()
+    try:
+        w.wait_ready()
+        os.kill(w.proc.pid, signal.SIGKILL)
+        w.proc.wait()
+        assert w.run(quick)["status"] == "ok"
+    finally:
+        w.stop(kill=True)

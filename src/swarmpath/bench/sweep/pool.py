@@ -123,10 +123,20 @@ class Worker:
 
     # ------------------------------------------------------------------ jobs
     def submit(self, job: Job) -> None:
-        """Hand ``job`` to the process (it must be idle)."""
+        """Hand ``job`` to the process (it must be idle); a process that died while idle is
+        replaced first."""
+        if self.proc is None or self.proc.poll() is not None:
+            self.stop(kill=True)
+            self.start().wait_ready()
         self.job = job
         self.started = time.perf_counter()
-        self.tx.send(job)
+        try:
+            self.tx.send(job)
+        except OSError:                      # it died between the check and the send
+            self.stop(kill=True)
+            self.start().wait_ready()
+            self.job, self.started = job, time.perf_counter()
+            self.tx.send(job)
 
     @property
     def deadline(self) -> float:
@@ -155,9 +165,6 @@ class Worker:
 
     def run(self, job: Job) -> dict[str, Any]:
         """Run one job to its end or its limit (blocking)."""
-        if self.proc is None or self.proc.poll() is not None:
-            self.stop(kill=True)
-            self.start().wait_ready()
         self.submit(job)
         if self.rx.poll(max(0.0, self.deadline - time.perf_counter())):
             return self.collect()
