@@ -176,7 +176,7 @@ def test_a_job_over_its_limit_is_a_timeout_and_the_sweep_goes_on(tmp_path: Path,
     t0 = time.monotonic()
     r = swarmpath("bench", str(p), "--store", str(tmp_path / "t.db"), *engine, "--json")
     assert r.returncode == 0, r.stderr
-    assert time.monotonic() - t0 < 90          # not the half minute the PSO job would take, start-ups included
+    assert time.monotonic() - t0 < 90          # generous for a loaded machine: wall_s below shows the cut
     doc = json.loads(r.stdout)
     assert (doc["ok"], doc["timeout"], doc["error"]) == (3, 1, 0)
     with Store(tmp_path / "t.db").open() as s:
