@@ -116,7 +116,7 @@ class GridGraph:
     table: NDArray[np.uint8]
 
     @classmethod
-    def build(cls, blocked: NDArray[np.bool_], connectivity: int, radius: float, resolution: float) -> "GridGraph":
+    def build(cls, blocked: NDArray[np.bool_], connectivity: int, radius: float, resolution: float) -> GridGraph:
         return cls(np.ascontiguousarray(blocked, np.uint8), connectivity, conflict_table(radius, resolution))
 
     @property
