@@ -1,13 +1,15 @@
 """The cat-swarm controller: its kernels against hand-computed values (eq. 10-13, copies,
-deletions, look-ahead), the reservation of joint moves, the obstacle forecast, the cell
-paths, and the controller itself on small worlds (conformance, determinism, avoidance)."""
+deletions, look-ahead), the ranking it hands to the PIBT core, the obstacle forecast, the
+cell paths, and the controller itself on small worlds (conformance, determinism,
+avoidance)."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from swarmpath.control.cat_swarm import kernels as K
+from swarmpath.control import hazards as H
 from swarmpath.control.cat_swarm import CatSwarmController
+from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cell_paths import (
     plan_cells,
     polyline_cells,
@@ -16,7 +18,6 @@ from swarmpath.control.cell_paths import (
     tidy_cells,
 )
 from swarmpath.control.hazards import ObstacleForecast, box_cell_ranges, paint
-from swarmpath.control.cat_swarm.reservation import reserve_moves
 from swarmpath.errors import ConfigError
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator
@@ -112,10 +113,10 @@ def test_escape_cells_need_an_allowed_move_to_a_safe_cell() -> None:
     blocked = np.zeros((3, 5), bool)
     unsafe = np.zeros((3, 5), bool)
     unsafe[:, :3] = True  # columns 0-2 unsafe
-    out = K.escape_cells(unsafe, K.move_table(blocked))
+    out = H.escape_cells(unsafe, K.move_table(blocked))
     assert out[:, 2].all() and not out[:, 1].any() and out[:, 3:].all()
     blocked[:, 3] = True  # a wall: column 2 can no longer get out
-    out = K.escape_cells(unsafe, K.move_table(blocked))
+    out = H.escape_cells(unsafe, K.move_table(blocked))
     assert not out[:, 2].any()
 
 
@@ -125,14 +126,14 @@ def test_safe_tier_and_stay_depth_by_backward_induction() -> None:
     d2 = np.array([[1, 1, 0, 0, 0]], bool)
     d3 = np.array([[1, 1, 1, 0, 0]], bool)
     covered = [d1, d2, d3]
-    assert K.safe_tier(covered, moves, 1)[0][0].tolist() == [False, True, True, True, True]
+    assert H.safe_tier(covered, moves, 1)[0][0].tolist() == [False, True, True, True, True]
     # cell 1 is free next step and can reach cell 2 ... which is hit at step 3 unless left again
-    tier, then = K.safe_tier(covered, moves, 3)
+    tier, then = H.safe_tier(covered, moves, 3)
     assert tier[0].tolist() == [False, True, True, True, True]
     assert then[0].tolist() == [False, False, True, True, True]
-    assert K.stay_depth(covered)[0].tolist() == [0, 1, 2, 3, 3]
+    assert H.stay_depth(covered)[0].tolist() == [0, 1, 2, 3, 3]
     walled = K.move_table(np.array([[False, False, True, False, False]]))
-    assert K.safe_tier(covered, walled, 3)[0][0].tolist() == [False, False, False, True, True]
+    assert H.safe_tier(covered, walled, 3)[0][0].tolist() == [False, False, False, True, True]
 
 
 def test_warning_levels_decay_with_time_and_reach_one_cell_around() -> None:
@@ -141,75 +142,7 @@ def test_warning_levels_decay_with_time_and_reach_one_cell_around() -> None:
     d2 = np.zeros((1, 7), bool)
     d2[0, 3] = True
     cells = np.array([[x, 0] for x in range(7)])
-    assert K.warning_levels([d1, d2], cells, 0.5).tolist() == [1.0, 1.0, 0.5, 0.5, 0.5, 0.0, 0.0]
-
-
-def test_crowded_marks_robots_within_two_cells() -> None:
-    cells = np.array([[0, 0], [2, 2], [6, 6], [9, 9], [9, 7]])
-    assert K.crowded(cells, (10, 10)).tolist() == [True, True, False, True, True]
-
-
-# ---------------------------------------------------------------------------- joint moves
-def flat(x, y, w=10):
-    return y * w + x
-
-
-def lists(cells_per_robot, w=10):
-    """Candidate cell ids and diagonal block ids for robots given their 9 candidate cells."""
-    cand, blocks = [], []
-    for (x, y) in cells_per_robot:
-        cand.append([flat(x + dx, y + dy, w) for dx, dy in K.OFFSETS.tolist()])
-        blocks.append([(min(y, y + dy) + 1) * (w + 2) + min(x, x + dx) + 1 if dx and dy else -1
-                       for dx, dy in K.OFFSETS.tolist()])
-    return cand, blocks
-
-
-def idx(offset):
-    return [tuple(o) for o in K.OFFSETS.tolist()].index(offset)
-
-
-def test_reservation_lets_a_robot_follow_but_never_swap() -> None:
-    cells = [(1, 1), (2, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    east, west = idx((1, 0)), idx((-1, 0))
-    # robot 1 leads east, robot 0 follows into its cell
-    choice, _ = reserve_moves([1, 0], cur, cand, blocks, [[east, 0], [east, 0]], [[], []], [False, False])
-    assert choice == [east, east]
-    # head-on: robot 0 wants east, robot 1 wants west -> the second cannot swap
-    choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[east, 0], [west, 0]], [[], []], [False, False])
-    assert sorted(choice) == sorted([0, west]) or choice == [0, 0]
-    assert not (choice[0] == east and choice[1] == west)
-
-
-def test_reservation_refuses_crossing_diagonals_and_shared_cells() -> None:
-    cells = [(1, 1), (2, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    ne, nw = idx((1, 1)), idx((-1, 1))
-    choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[ne, 0], [nw, 0]], [[], []], [False, False])
-    assert choice == [ne, 0]  # robot 1 would cross robot 0's diagonal
-    upleft = idx((-1, 1))
-    cells = [(1, 1), (3, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    choice, _ = reserve_moves([1, 0], cur, cand, blocks, [[ne, 0], [upleft, 0]], [[], []], [False, False])
-    assert choice == [0, upleft]  # both wanted (2, 2): the first in order gets it
-
-
-def test_pushing_makes_the_occupant_yield_and_asking_does_not() -> None:
-    cells = [(1, 1), (2, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    east, north = idx((1, 0)), idx((0, 1))
-    own = [[east, 0], [0]]  # robot 1 is happy where it is
-    pushed = [[], [north]]
-    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, pushed, [False, False])
-    assert choice == [0, 0] and yielded == [False, False]  # asked, it stays
-    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, pushed, [True, False])
-    assert choice == [east, north] and yielded == [False, True]  # pushed, it moves aside
-    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, [[], []], [True, False])
-    assert choice == [0, 0]  # nowhere to go: the pusher tries its next candidate
+    assert H.warning_levels([d1, d2], cells, 0.5).tolist() == [1.0, 1.0, 0.5, 0.5, 0.5, 0.0, 0.0]
 
 
 # ---------------------------------------------------------------------------- obstacle forecast

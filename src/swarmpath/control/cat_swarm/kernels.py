@@ -95,6 +95,26 @@ def move_table(blocked: BoolArray) -> BoolArray:
     return out
 
 
+def moves_at(blocked: BoolArray, cells: IntArray) -> BoolArray:
+    """:func:`move_table` at given cells only, shape (..., 9) for ``cells`` (..., 2): the same
+    values without building the table of the whole grid (a robot needs its own 9 moves)."""
+    b = np.asarray(blocked, bool)
+    h, w = b.shape
+    c = np.asarray(cells, np.int64)
+
+    def free(x, y):
+        x, y = np.broadcast_arrays(x, y)
+        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        out = np.zeros(ok.shape, bool)
+        out[ok] = ~b[y[ok], x[ok]]
+        return out
+
+    x, y = c[..., 0, None], c[..., 1, None]
+    dx, dy = OFFSETS[:, 0], OFFSETS[:, 1]
+    ok = free(x + dx, y + dy) & free(x, y)
+    return ok & (~DIAGONAL | (free(x + dx, y) & free(x, y + dy)))
+
+
 def fitness_eq12(fields: NDArray, field_index: IntArray, copies: IntArray) -> FloatArray:
     """Eq. 12: the fitness of a copy is the length of the path from the copy to its robot's
     goal. ``fields[g]`` (height, width) is the grid distance field of goal g (cells, octile,
