@@ -461,12 +461,12 @@ class HazardWindows:
         rows = np.arange(len(self.rows)).reshape((-1,) + (1,) * (c.ndim - 2))
         return grid[rows, c[..., 1], c[..., 0]]
 
-    def tiers(self, allowed: BoolArray, dest: IntArray, depth: int, exits: BoolArray | None = None
+    def tiers(self, allowed: BoolArray, dest: IntArray, depth: int | IntArray, exits: BoolArray | None = None
               ) -> tuple[BoolArray, BoolArray]:
         """Keep each robot to the most cautious tier that leaves it a candidate: for d =
-        ``depth`` down to 2, the candidates (``allowed`` (r, 9), reaching cells ``dest`` (r, 9,
-        2)) from which the robot can keep clear for d steps; a robot with none keeps its
-        candidates for the next d. ``exits`` (r, 9, 9): the moves a robot can make after each
+        ``depth`` (one for all, or (r,) per robot) down to 2, the candidates (``allowed`` (r,
+        9), reaching cells ``dest`` (r, 9, 2)) from which the robot can keep clear for d
+        steps; a robot with none keeps its candidates for the next d. ``exits`` (r, 9, 9): the moves a robot can make after each
         candidate (default: the static moves of the candidate's cell; less from an exact goal
         off its cell centre). Returns (allowed, threatened): threatened robots must leave
         their cell to stay in their tier."""
@@ -478,10 +478,11 @@ class HazardWindows:
             exits = self.at(self.moves, dest)
         around = np.asarray(dest)[..., None, :] + GRID_MOVES            # (r, 9, 9, 2)
         base = allowed.copy()
-        for d in range(depth, 1, -1):
+        depth = np.broadcast_to(np.asarray(depth, np.int64), (r,))
+        for d in range(int(depth.max(initial=0)), 1, -1):
             _, then = safe_tier(self.covered, self.moves, d)
             strict = base & ~self.at(self.covered[0], dest) & np.any(exits & self.at(then, around), axis=-1)
-            usable = strict.any(axis=1) & undecided
+            usable = strict.any(axis=1) & undecided & (depth >= d)
             allowed = np.where(usable[:, None], strict, allowed)
             threatened |= usable & ~strict[:, 0]
             undecided &= ~usable

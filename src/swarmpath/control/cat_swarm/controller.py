@@ -49,7 +49,7 @@ from swarmpath.control.pibt.core import (
     PUSHED,
     GridGraph,
     decision_order,
-    pibt_step,
+    pibt_step_escaping,
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
@@ -99,7 +99,10 @@ class CatSwarmController(Controller):
     def __init__(self, mixture_ratio: float = 0.4, seeking_range: int = 1, keep_present: bool = True,
                  obstacle_alert: str = "long", margin: int = 0, lookahead: int = 5, leave_early: int = 2,
                  hazard_horizon: int = 4, hazard_weight: float = 2.0, hazard_decay: float = 0.7, lead: bool = True,
-                 patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto"):
+                 patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
+                 stalled_lookahead: int = 2, relax_after: int = 20):
+        self.stalled_lookahead = stalled_lookahead
+        self.relax_after = relax_after
         self.mixture_ratio = mixture_ratio
         self.seeking_range = seeking_range
         self.keep_present = keep_present
@@ -260,10 +263,11 @@ class CatSwarmController(Controller):
         keys = swarm_keys(fitness, score, tie13, safety, path_next, follow, path_ok, stay_first,
                           first & reachable, self.keep_present)
         rank = dense_ranks(keys, valid)
-        order = decision_order(self.priority_, in_danger)
+        order = decision_order(self.priority_, in_danger | threatened, valid.sum(axis=1))
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
-        result = pibt_step(self.graph_, flat, rank, valid, self.rng_.random((n, 9)), order, goals=self.goal_flat_,
-                           slots=self.handles_, tables=self.tables_._c, swap=self.swap, yield_way=True)
+        result = pibt_step_escaping(self.graph_, flat, rank, valid, self.rng_.random((n, 9)), order,
+                                    danger=in_danger, goals=self.goal_flat_, slots=self.handles_,
+                                    tables=self.tables_._c, swap=self.swap, yield_way=True)
         choice = result.moves.astype(np.int64)
         new = targets[rows, choice]
         held = self._held(pos, new, cells)
@@ -318,7 +322,11 @@ class CatSwarmController(Controller):
         exits = hz.at(hz.moves, dest)
         odd = in_goal_cell[r] & self.cells_.goal_off_centre[r, None] & np.all(targets[r] == obs.goals[r, None], axis=-1)
         exits = np.where(odd[..., None], self.cells_.goal_moves[r][:, None, :], exits)
-        v, threat = hz.tiers(v, dest, self.lookahead, exits)
+        # a robot without progress for `patience` steps looks ahead less: among obstacles that
+        # may head anywhere the deepest tiers can hold it in a safe pocket for good
+        stalled = (self.monitor_.since[r] >= self.relax_after) & ~obs.at_goal[r]
+        v, threat = hz.tiers(v, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead), self.lookahead),
+                             exits)
         threatened[r] = threat
         # and, among those, prefer cells an obstacle cannot reach soon (leave early)
         safety = np.where(valid, self.leave_early, -1)

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.grid_robots import check_grid_robots
-from swarmpath.control.hazards import ObstacleForecast, hazard_windows
+from swarmpath.control.hazards import ObstacleForecast, hazard_windows, stay_depth
 from swarmpath.control.observation import Observation
 from swarmpath.control.pibt.core import (
     DIAGONAL_MOVE,
@@ -32,7 +32,7 @@ from swarmpath.control.pibt.core import (
     GridGraph,
     check_connectivity,
     decision_order,
-    pibt_step,
+    pibt_step_escaping,
     static_moves,
     update_priorities,
 )
@@ -46,6 +46,8 @@ from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 MOVE_COST = np.linalg.norm(GRID_MOVES, axis=1)
+#: Added to a candidate's distance per step it is less clear of obstacles than the clearest.
+CLEAR_WEIGHT = 1e6
 
 
 @register_controller("pibt")
@@ -65,9 +67,15 @@ class PIBTController(Controller):
         A robot pushed off its goal steps out of the pusher's way rather than ahead of it
         (True; see :func:`~swarmpath.control.pibt.core.pibt_step`).
     lookahead : int
-        With moving obstacles: 1 (default) also keeps robots out of cells from which every
-        move may be swept by an obstacle the step after (a dead end an obstacle is heading
-        into); 0 looks at the next step only.
+        With moving obstacles: how many steps beyond the next a robot makes sure it can keep
+        clear of every obstacle whatever the obstacles do (4): it keeps to the deepest tier of
+        :meth:`~swarmpath.control.hazards.HazardWindows.tiers` that leaves it a candidate (a
+        dead end an obstacle is heading into is left while it still can be); 0 looks at the
+        next step only.
+    leave_early : int
+        With moving obstacles: robots an obstacle can reach rank first the candidates that
+        stay clear of every obstacle longest over this many steps (2), and leave a cell an
+        obstacle may reach that soon when a clearer one is free; 0 ranks by distance alone.
     landmarks : int or "auto"
         Landmark cells of the distance tables' differential heuristic ("auto": 8 when there is
         a robot per 4,096 free cells or more, else 0; 0: octile only): about half the cells
@@ -78,8 +86,9 @@ class PIBTController(Controller):
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
-    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
-                 landmarks: int | str = "auto", release_at_goal: bool = True):
+    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 4,
+                 landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 2):
+        self.leave_early = leave_early
         self.connectivity = connectivity
         self.landmarks = landmarks
         self.lookahead = lookahead
@@ -90,8 +99,11 @@ class PIBTController(Controller):
     # ------------------------------------------------------------------ reset
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         check_connectivity(self.connectivity, "pibt")
-        if self.lookahead not in (0, 1):
-            raise ConfigError(f"pibt: lookahead must be 0 or 1, got {self.lookahead!r}")
+        if isinstance(self.lookahead, bool) or not isinstance(self.lookahead, (int, np.integer)) or self.lookahead < 0:
+            raise ConfigError(f"pibt: lookahead must be a whole number >= 0, got {self.lookahead!r}")
+        if isinstance(self.leave_early, bool) or not isinstance(self.leave_early, (int, np.integer)) \
+                or self.leave_early < 0:
+            raise ConfigError(f"pibt: leave_early must be a whole number >= 0, got {self.leave_early!r}")
         n = world.n_robots
         res = world.resolution
         radius = float(world.radii.max(initial=0.0))
@@ -179,10 +191,11 @@ class PIBTController(Controller):
         allowed[special] = ~np.isnan(dist[special]) & special_reach
         allowed[:, STAY] = True
         urgent = np.zeros(n, bool)
+        threatened = np.zeros(n, bool)
         hz = None
         if self.forecast_ is not None:
             hz = hazard_windows(self.forecast_, obs.obstacle_positions, obs.obstacle_previous, pos, cells,
-                                self.padded_, self.pad_, 1 + self.lookahead, 1 + self.lookahead,
+                                self.padded_, self.pad_, max(1 + self.lookahead, self.leave_early), 1 + self.lookahead,
                                 connectivity=self.connectivity)
         if hz is not None:
             rows = hz.rows
@@ -191,15 +204,22 @@ class PIBTController(Controller):
             urgent[rows] = hz.at(hz.covered[0], cells[rows])
             if self.lookahead:
                 # keep out of cells that leave no way out later, unless nothing else is left
-                allowed[rows] = hz.tiers(allowed[rows], dest, 1 + self.lookahead)[0]
+                allowed[rows], threatened[rows] = hz.tiers(allowed[rows], dest, 1 + self.lookahead)
+            if self.leave_early:
+                # prefer the candidates that stay clear of every obstacle longest (up to leave_early steps)
+                depth = hz.at(stay_depth(hz.covered[:self.leave_early]), dest)
+                depth = np.where(allowed[rows], depth, -1)
+                threatened[rows] |= depth.max(axis=1) > depth[:, STAY]
+                dist[rows] = np.where(np.isnan(dist[rows]), np.nan, dist[rows] + CLEAR_WEIGHT * (self.leave_early - depth))
         self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
-        order = decision_order(self.priority_, urgent)
+        # robots that must or should leave their cell first, the most constrained first
+        order = decision_order(self.priority_, urgent | threatened, allowed.sum(axis=1))
         tie = self.rng_.random((n, 9))
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
         goal_flat = (self.goal_cells_[:, 1] * self.width_ + self.goal_cells_[:, 0]).astype(np.int32)
-        result = pibt_step(self.graph_, flat, np.nan_to_num(dist, nan=np.inf), allowed, tie, order, goals=goal_flat,
-                           slots=self.handles_, tables=self.tables_._c, swap=self.swap,
-                           yield_way=self.yield_way)
+        result = pibt_step_escaping(self.graph_, flat, np.nan_to_num(dist, nan=np.inf), allowed, tie, order,
+                                    danger=urgent, goals=goal_flat, slots=self.handles_, tables=self.tables_._c,
+                                    swap=self.swap, yield_way=self.yield_way)
         moves = result.moves.astype(np.int64)
         new = centre + GRID_MOVES[moves] * self.grid_.resolution
         new[special] = special_targets[np.arange(len(special)), moves[special]]
