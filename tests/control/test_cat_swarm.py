@@ -297,3 +297,122 @@ def test_arrival_uses_the_exact_goal_and_start_off_cell_centres() -> None:
     assert validate_trajectory(world, traj) == []
     assert traj.status == "all_reached"
     assert np.allclose(traj.positions[-1], world.goals)
+
+
+# ---------------------------------------------------------------------------- the ranking handed to the core
+def test_dense_ranks_share_equal_keys_and_leave_deleted_copies_out() -> None:
+    from swarmpath.control.cat_swarm.ranking import NOT_ALLOWED, dense_ranks
+
+    k0 = np.array([[0, 1, 1, 0, 2, 1, 1, 1, 1]], float)
+    k1 = np.array([[5, 1, 1, 5, 0, 2, 2, 0, 3]], float)
+    valid = np.array([[True, True, True, True, True, True, True, False, True]])
+    ranks = dense_ranks([k0, k1], valid)
+    assert ranks.tolist() == [[0, 1, 1, 0, 4, 2, 2, NOT_ALLOWED, 3]]
+
+
+def test_swarm_keys_give_each_kind_of_robot_its_ranking() -> None:
+    from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
+
+    # four robots, the same fitness: copy 3 (N) is the shortest way, copy 1 (E) next
+    fitness = np.tile(np.array([5.0, 4.0, 4.6, 3.6, 4.6, 6.0, 6.4, 6.0, 5.4]), (4, 1))
+    score = fitness.copy()
+    score[:, 3] += 2.0           # an obstacle's warning on N: the swarm prefers E
+    tie = np.zeros((4, 9))
+    path_next = np.array([7, 7, 7, 7])      # the path goes S
+    follow = np.array([True, False, False, False])
+    path_ok = np.ones(4, bool)
+    stay_first = np.array([False, False, True, False])
+    first = np.array([False, False, False, True])
+    valid = np.ones((4, 9), bool)
+    ranks = dense_ranks(swarm_keys(fitness, score, tie, None, path_next, follow, path_ok, stay_first, first), valid)
+    best = np.argmin(ranks, axis=1)
+    assert best.tolist() == [7, 1, 0, 3]            # follow: its path; seek: eq. 12 + warning; parked; distance first
+    assert ranks[0, 0] == 1                          # a follower waits when its path cell is taken
+    assert ranks[1, 3] > ranks[1, 1]                 # the warning demotes N for the seeker ...
+    assert ranks[3, 3] < ranks[3, 1]                 # ... not for the robot that must progress
+    safety = np.zeros((4, 9), int)
+    safety[:, 8] = 2                                 # SE stays clear of obstacles longest
+    ranks = dense_ranks(swarm_keys(fitness, score, tie, safety, path_next, follow, path_ok, stay_first, first), valid)
+    assert np.argmin(ranks, axis=1).tolist() == [7, 8, 0, 3]
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_highest_priority_robot_progresses_whatever_the_swarm_prefers(seed) -> None:
+    """Reachability (PIBT's Theorem 1) through the cat swarm's ranking: the robot of highest
+    priority ranks by exact distance first, every other robot by the swarm's rules (random
+    paths, modes and warnings here); without the swap emulation, on a crowded open grid, the
+    top robot gets a best cell every step and walks a shortest path to its goal."""
+    from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
+    from swarmpath.control.pibt.core import GridGraph, decision_order, pibt_step, static_moves
+    from swarmpath.search.lazy_distance import LazyDistanceTables
+
+    rng = np.random.default_rng(seed)
+    blocked = np.zeros((8, 8), bool)
+    graph = GridGraph.build(blocked, 8, 0.0, 1.0)
+    moves_all = static_moves(blocked, 8)
+    free = np.argwhere(~blocked)[:, ::-1]
+    for _ in range(8):
+        n = int(rng.integers(20, 50))
+        cells = free[rng.choice(64, n, replace=False)]
+        goals = free[rng.choice(64, n, replace=False)]
+        tables = LazyDistanceTables(blocked)
+        handles = tables.acquire_many(goals)
+        start = tables.distance(handles[0], cells[0])
+        steps = 0
+        while np.any(cells[0] != goals[0]):
+            fitness = np.nan_to_num(tables.neighbour_costs(handles, cells), nan=np.inf)
+            valid = moves_all[cells[:, 1], cells[:, 0]]
+            first = np.zeros(n, bool)
+            first[0] = True
+            keys = swarm_keys(fitness, fitness + 3 * rng.random((n, 9)), rng.random((n, 9)), None,
+                              rng.integers(0, 9, n), rng.random(n) < 0.6, rng.random(n) < 0.8, rng.random(n) < 0.2,
+                              first)
+            flat = (cells[:, 1] * 8 + cells[:, 0]).astype(np.int32)
+            res = pibt_step(graph, flat, dense_ranks(keys, valid), valid, rng.random((n, 9)),
+                            decision_order(np.r_[1e9, rng.random(n - 1)]),
+                            goals=(goals[:, 1] * 8 + goals[:, 0]).astype(np.int32), slots=handles, tables=tables._c,
+                            swap=False, yield_way=True)
+            assert fitness[0, res.moves[0]] == np.min(fitness[0][valid[0]])
+            cells = cells + K.OFFSETS[res.moves.astype(int)]
+            steps += 1
+            assert steps <= 12
+        assert steps <= start + 1e-9   # one step per cell of (octile) distance at most
+        assert len({tuple(c) for c in cells.tolist()}) == n
+
+
+# ---------------------------------------------------------------------------- scale, the corner goal, a crowd
+def test_distances_come_from_lazy_tables_that_grow_with_what_the_robots_need() -> None:
+    """One robot on a 1500 x 1500 open map: no distance field, no whole-grid table per step;
+    the goal's table holds a small part of the map."""
+    n = 1500
+    world = World(RectBounds(n, n), static_map=StaticMap(np.zeros((n, n), bool), 1.0),
+                  robots=(Robot("a", (0.5, 0.5), (n - 20.5, n - 30.5), 0.0, S2),), name="big")
+    ctl = CatSwarmController()
+    traj = Simulator(world, ctl, None, seed=0, max_steps=20).run()
+    assert traj.n_steps == 20 and validate_trajectory(world, traj) == []
+    assert ctl.cells_.fields is None and ctl.tables_.live == 1
+    assert ctl.tables_.memory_bytes() < 0.1 * n * n * 8   # under a tenth of one distance field
+
+
+def test_a_goal_on_the_workspace_corner_is_reached_through_its_cell_centre() -> None:
+    world = World(RectBounds(10, 10), robots=(Robot("a", (0.5, 0.5), (10.0, 10.0), 0.0, S2),
+                                              Robot("b", (9.5, 0.5), (0.0, 10.0), 0.0, S2)), name="corner")
+    traj = Simulator(world, CatSwarmController(), None, seed=0, max_steps=60).run()
+    assert validate_trajectory(world, traj) == []
+    assert traj.status == "all_reached"
+    first = int(np.flatnonzero(np.all(traj.positions[:, 0] == (10.0, 10.0), axis=1))[0])
+    assert np.allclose(traj.positions[first - 1, 0], (9.5, 9.5))   # the cell's centre, then the corner
+
+
+def test_the_crossing_example_gets_every_robot_home() -> None:
+    """examples/crossing.yaml: six robots swap sides of a room through two doors while two carts
+    patrol (the old cat swarm got 1 of 6 home)."""
+    from pathlib import Path
+
+    from swarmpath.world import load_scenario
+
+    world = load_scenario(Path(__file__).parents[2] / "examples" / "crossing.yaml")
+    for seed in range(3):
+        traj = Simulator(world, CatSwarmController(), None, seed=seed).run()
+        assert validate_trajectory(world, traj) == []
+        assert traj.status == "all_reached" and not traj.contacts, seed

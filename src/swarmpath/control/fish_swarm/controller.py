@@ -194,21 +194,31 @@ class FishSwarmController(Controller):
         rank = np.full((n, 9), NOT_ALLOWED)
         allowed = np.zeros((n, 9), bool)
         targets = np.repeat(pos[:, None, :], 9, axis=1)
+        food = np.full((n, 9), np.inf)
         modes = [WAIT] * n
         events: list[dict] = []
         near = _CellIndex(self.grids_[0].cell_of(pos)) if n > 1 else None
         for i in range(n):
-            modes[i] = self._rank(i, obs, obstacles, n_fish, near, rank[i], allowed[i], targets[i], events)
+            modes[i] = self._rank(i, obs, obstacles, n_fish, near, rank[i], allowed[i], targets[i], food[i], events)
         allowed[:, STAY] = True   # waiting is always possible
         if n == 1:
             choice = np.array([int(np.argmin(rank[0]))])
             pushed = np.zeros(1, bool)
         else:
             self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
+            active = np.flatnonzero(~obs.at_goal)
+            if len(active):
+                # the robot of highest priority ranks by food first (its own cell included), the
+                # behaviour's order among equal food: PIBT's ranking, under which it surely
+                # progresses (with distance-field food), and the swap emulation can reverse it
+                lead = active[np.argmax(self.priority_[active])]
+                key = np.where(allowed[lead], np.round(food[lead], 9), np.inf)
+                order = np.lexsort((rank[lead], key))
+                rank[lead, order] = np.where(allowed[lead, order], np.arange(9, dtype=float), NOT_ALLOWED)
             cells = self.grids_[0].cell_of(pos)
             flat = (cells[:, 1] * self.graph_.width + cells[:, 0]).astype(np.int32)
             res = pibt_step(self.graph_, flat, rank, allowed, np.zeros((n, 9)), decision_order(self.priority_),
-                            goals=self.goal_flat_, yield_way=True)
+                            goals=self.goal_flat_, swap=True, yield_way=True)
             choice = res.moves.astype(np.int64)
             pushed = ((res.flags & PUSHED) != 0) & (choice != STAY)
         new = targets[np.arange(n), choice]
@@ -224,11 +234,11 @@ class FishSwarmController(Controller):
         return Decision(new, modes, tuple(events))
 
     def _rank(self, i: int, obs, obstacles: FloatArray, n_fish: int, near, rank: FloatArray, allowed,
-              targets: FloatArray, events: list) -> str:
+              targets: FloatArray, food9: FloatArray, events: list) -> str:
         """Robot ``i``'s ranking of its 9 moves (``GRID_MOVES`` order, written into ``rank``,
-        ``allowed`` and ``targets``; staying is index 0): the move its behaviour picks first,
-        then, for when the core needs it elsewhere, the other cells it may enter (best food
-        first) and waiting. Returns the behaviour (Algorithm 1)."""
+        ``allowed``, ``targets`` and their food into ``food9``; staying is index 0): the move
+        its behaviour picks first, then, for when the core needs it elsewhere, the other cells
+        it may enter (best food first) and waiting. Returns the behaviour (Algorithm 1)."""
         world = self.world_
         robot = world.robots[i]
         grid = self.grids_[i]
@@ -238,10 +248,12 @@ class FishSwarmController(Controller):
         # only a robot with another robot within two cells can be asked to make way this step
         several = near is not None and len(near.around(cell, 2, i)) > 0
         centre = grid.centers(cell)
+        if several:
+            food9[STAY] = self._food(i, cell[None])[0]
         if np.linalg.norm(p - goal) <= 1e-9:
             rank[STAY] = 0.0
             if several:   # parked: where it goes if another robot must pass
-                self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, start=1.0)
+                self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, food9, start=1.0)
             return ARRIVED
         if np.array_equal(cell, self.goal_cells_[i]) or np.linalg.norm(p - centre) > 1e-9:
             # in the goal cell: step onto the exact goal point; off a cell centre (start of the
@@ -253,7 +265,7 @@ class FishSwarmController(Controller):
             if go:
                 targets[STAY] = to
             if several:
-                self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, start=1.0)
+                self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, food9, start=1.0)
             return PREY if go else WAIT
 
         if self.food == "distance-field" and not np.isfinite(self._food(i, cell[None])[0]) and i not in self.warned_:
@@ -280,6 +292,8 @@ class FishSwarmController(Controller):
         targets[slot] = points
         allowed[slot] = ok
         food = self._food(i, cand)
+        food9[slot] = food
+        food9[STAY] = self._food(i, cell[None])[0]
         # after the behaviour's choice: the other least exposed cells by food, waiting, the rest
         order = np.lexsort((np.arange(len(cand)), food, exposure, ~pool))
         rank[slot[order]] = 2.0 + np.arange(len(cand))
@@ -304,7 +318,7 @@ class FishSwarmController(Controller):
         return mode
 
     def _fallback(self, i: int, p: FloatArray, cell, obs, obstacles: FloatArray, rank: FloatArray, allowed,
-                  targets: FloatArray, start: float) -> None:
+                  targets: FloatArray, food9: FloatArray, start: float) -> None:
         """Where robot ``i`` goes when another robot needs its cell: the neighbour centres it
         may enter and reach this step, least exposed first, then by food (fixed order; no
         random draw, so a robot that is never pushed draws nothing)."""
@@ -326,6 +340,7 @@ class FishSwarmController(Controller):
         food = self._food(i, cand[idx])
         order = np.lexsort((food, exposure))
         slots = 1 + idx[order]
+        food9[slots] = food[order]
         targets[slots] = points[idx[order]]
         allowed[slots] = True
         rank[slots] = start + 1.0 + np.arange(len(slots))

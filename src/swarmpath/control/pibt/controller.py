@@ -68,14 +68,17 @@ class PIBTController(Controller):
         (True; see :func:`~swarmpath.control.pibt.core.pibt_step`).
     lookahead : int
         With moving obstacles: how many steps beyond the next a robot makes sure it can keep
-        clear of every obstacle whatever the obstacles do (4): it keeps to the deepest tier of
+        clear of every obstacle whatever the obstacles do: it keeps to the deepest tier of
         :meth:`~swarmpath.control.hazards.HazardWindows.tiers` that leaves it a candidate (a
-        dead end an obstacle is heading into is left while it still can be); 0 looks at the
-        next step only.
+        dead end an obstacle is heading into is left while it still can be). 1 (default):
+        the step after next; 0: the next step only.
     leave_early : int
         With moving obstacles: robots an obstacle can reach rank first the candidates that
-        stay clear of every obstacle longest over this many steps (2), and leave a cell an
-        obstacle may reach that soon when a clearer one is free; 0 ranks by distance alone.
+        stay clear of every obstacle longest over this many steps, and leave a cell an
+        obstacle may reach that soon when a clearer one is free; 0 (default) ranks by
+        distance alone. ``lookahead=4, leave_early=2`` is as cautious as ``cat-swarm``: no
+        contact among the 20 never-stopping obstacles of the 64 x 64 acceptance test, where
+        the defaults leave robots cornered now and then; in dense patrols it arrives less.
     landmarks : int or "auto"
         Landmark cells of the distance tables' differential heuristic ("auto": 8 when there is
         a robot per 4,096 free cells or more, else 0; 0: octile only): about half the cells
@@ -86,8 +89,8 @@ class PIBTController(Controller):
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
-    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 4,
-                 landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 2):
+    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
+                 landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0):
         self.leave_early = leave_early
         self.connectivity = connectivity
         self.landmarks = landmarks
