@@ -26,6 +26,12 @@ and the grid controllers named by ``--controllers`` (default ``pibt cat-swarm``)
 simulator without a plan (success = every robot at its goal at the end with zero contacts),
 for ``--seeds`` seeds; per map the slowest plan, each controller's failures, and the median
 and worst wall time of a controller's run.
+
+``--ladder`` runs the rungs of the cat swarm's ablation ladder that use the core
+(``swarmpath.bench.jaleel2016.ladder_rungs``, rung 2 on) on crowded MovingAI instances without
+moving obstacles, where the core's guarantees matter (the paper's scenario is too sparse to
+tell them apart): per rung, successes (every robot at its goal at the end, zero contacts) and
+the median number of steps.
 """
 from __future__ import annotations
 
@@ -184,6 +190,30 @@ def sweep(seeds: int, controllers: list[str]) -> None:
               flush=True)
 
 
+LADDER = [("random-32-32-10", "random-32-32-10-random-1", 300), ("room-32-32-4", "room-32-32-4-even-10", 125),
+          ("maze-32-32-2", "maze-32-32-2-even-10", 150), ("den312d", "den312d-even-10", 200)]
+
+
+def ladder(seeds: int) -> None:
+    from swarmpath.bench.jaleel2016 import ladder_rungs
+    from swarmpath.world import world_from_movingai
+
+    rungs = ladder_rungs()
+    worlds = [(f"{name} {n}", world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n))
+              for name, scen, n in LADDER]
+    print("rung | addition | " + " | ".join(label for label, _ in worlds))
+    for k, rung in enumerate(rungs[2:], start=2):
+        cells = []
+        for _, world in worlds:
+            ok, steps = 0, []
+            for seed in range(seeds):
+                traj = Simulator(world, rung.controller(), seed=seed).run()
+                ok += traj.status.value == "all_reached" and not traj.contacts
+                steps.append(traj.n_steps)
+            cells.append(f"{ok}/{seeds}, {int(np.median(steps))} steps")
+        print(f"{k} | {rung.addition.split(' (')[0]} | " + " | ".join(cells), flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--agents", type=int, nargs="+", default=[100, 200, 300, 400])
@@ -191,7 +221,11 @@ def main() -> None:
     ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--controllers", nargs="+", default=["pibt", "cat-swarm"])
+    ap.add_argument("--ladder", action="store_true")
     args = ap.parse_args()
+    if args.ladder:
+        ladder(args.seeds)
+        return
     if args.sweep:
         sweep(args.seeds, args.controllers)
         return
