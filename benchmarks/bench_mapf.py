@@ -22,8 +22,16 @@ most 1/10 of it.
 
 ``--sweep`` instead runs the acceptance sweep on every MovingAI scen in src/swarmpath/data/movingai: agent
 counts from 25 to 400 (or the file's maximum) in steps of 25, ``lacam`` (8-connected, 10 s)
-and the ``pibt`` controller through the simulator (success = every robot at its goal with
-zero contacts), for ``--seeds`` seeds.
+and the grid controllers named by ``--controllers`` (default ``pibt cat-swarm``) through the
+simulator without a plan (success = every robot at its goal at the end with zero contacts),
+for ``--seeds`` seeds; per map the slowest plan, each controller's failures, and the median
+and worst wall time of a controller's run.
+
+``--ladder`` runs the rungs of the cat swarm's ablation ladder that use the core
+(``swarmpath.bench.jaleel2016.ladder_rungs``, rung 2 on) on crowded MovingAI instances without
+moving obstacles, where the core's guarantees matter (the paper's scenario is too sparse to
+tell them apart): per rung, successes (every robot at its goal at the end, zero contacts) and
+the median number of steps.
 """
 from __future__ import annotations
 
@@ -146,7 +154,8 @@ SWEEP = [("random-32-32-10", "random-32-32-10-random-1"), ("room-32-32-4", "room
          ("maze-32-32-2", "maze-32-32-2-even-10"), ("den312d", "den312d-even-10"), ("empty-8-8", "empty-8-8-even-10")]
 
 
-def sweep(seeds: int) -> None:
+def sweep(seeds: int, controllers: list[str]) -> None:
+    from swarmpath.registry import CONTROLLERS
     from swarmpath.world import world_from_movingai
 
     for name, scen in SWEEP:
@@ -154,21 +163,55 @@ def sweep(seeds: int) -> None:
         counts = list(range(25, min(400, rows) + 1, 25)) or [rows]
         if name == "empty-8-8":
             counts = [8, 16, 24, 32]
-        line = []
+        fails: list[str] = []
         worst_lacam = 0.0
+        walls: dict[str, list[float]] = {c: [] for c in controllers}
+        runs = 0
         for n in counts:
             world = world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n)
             for seed in range(seeds):
                 t = time.perf_counter()
                 plan = LaCAMPlanner(time_limit=10.0).plan(world, rng=seed)
                 worst_lacam = max(worst_lacam, time.perf_counter() - t)
-                traj = Simulator(world, PIBTController(), seed=seed).run()
-                pibt_ok = traj.status.value == "all_reached" and not traj.contacts
-                if not plan or not pibt_ok:
-                    line.append(f"n={n} seed={seed}: lacam {'ok' if plan else 'FAIL'}, pibt "
-                                f"{'ok' if pibt_ok else f'FAIL ({traj.status.value}, {len(traj.contacts)} contacts)'}")
-        print(f"{name}: counts {counts[0]}..{counts[-1]}, {seeds} seeds: slowest lacam {worst_lacam:.3f} s; "
-              + ("all solved by both" if not line else "; ".join(line)), flush=True)
+                if not plan:
+                    fails.append(f"n={n} seed={seed}: lacam FAIL")
+                runs += 1
+                for c in controllers:
+                    t = time.perf_counter()
+                    traj = Simulator(world, CONTROLLERS.get(c)(), seed=seed).run()
+                    walls[c].append(time.perf_counter() - t)
+                    if traj.status.value != "all_reached" or traj.contacts:
+                        at = np.linalg.norm(traj.positions[-1] - world.goals, axis=1) <= 1e-9
+                        fails.append(f"n={n} seed={seed}: {c} FAIL ({traj.status.value}, {int(at.sum())}/{n} at "
+                                     f"goal, {len(traj.contacts)} contacts)")
+        times = "; ".join(f"{c} run median {np.median(w):.2f} s, worst {max(w):.2f} s" for c, w in walls.items())
+        print(f"{name}: counts {counts[0]}..{counts[-1]}, {seeds} seeds ({runs} instances): slowest lacam "
+              f"{worst_lacam:.3f} s; {times}; " + ("every instance solved by all" if not fails else "; ".join(fails)),
+              flush=True)
+
+
+LADDER = [("random-32-32-10", "random-32-32-10-random-1", 300), ("room-32-32-4", "room-32-32-4-even-10", 125),
+          ("maze-32-32-2", "maze-32-32-2-even-10", 150), ("den312d", "den312d-even-10", 200)]
+
+
+def ladder(seeds: int) -> None:
+    from swarmpath.bench.jaleel2016 import ladder_rungs
+    from swarmpath.world import world_from_movingai
+
+    rungs = ladder_rungs()
+    worlds = [(f"{name} {n}", world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n))
+              for name, scen, n in LADDER]
+    print("rung | addition | " + " | ".join(label for label, _ in worlds))
+    for k, rung in enumerate(rungs[2:], start=2):
+        cells = []
+        for _, world in worlds:
+            ok, steps = 0, []
+            for seed in range(seeds):
+                traj = Simulator(world, rung.controller(), seed=seed).run()
+                ok += traj.status.value == "all_reached" and not traj.contacts
+                steps.append(traj.n_steps)
+            cells.append(f"{ok}/{seeds}, {int(np.median(steps))} steps")
+        print(f"{k} | {rung.addition.split(' (')[0]} | " + " | ".join(cells), flush=True)
 
 
 def main() -> None:
@@ -177,9 +220,14 @@ def main() -> None:
     ap.add_argument("--time-limit", type=float, default=60.0)
     ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--controllers", nargs="+", default=["pibt", "cat-swarm"])
+    ap.add_argument("--ladder", action="store_true")
     args = ap.parse_args()
+    if args.ladder:
+        ladder(args.seeds)
+        return
     if args.sweep:
-        sweep(args.seeds)
+        sweep(args.seeds, args.controllers)
         return
     lacam_soc, lacam_time = [], []
     for name, scen in INSTANCES:

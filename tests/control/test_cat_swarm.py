@@ -1,13 +1,15 @@
 """The cat-swarm controller: its kernels against hand-computed values (eq. 10-13, copies,
-deletions, look-ahead), the reservation of joint moves, the obstacle forecast, the cell
-paths, and the controller itself on small worlds (conformance, determinism, avoidance)."""
+deletions, look-ahead), the ranking it hands to the PIBT core, the obstacle forecast, the
+cell paths, and the controller itself on small worlds (conformance, determinism,
+avoidance)."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from swarmpath.control.cat_swarm import kernels as K
+from swarmpath.control import hazards as H
 from swarmpath.control.cat_swarm import CatSwarmController
+from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cell_paths import (
     plan_cells,
     polyline_cells,
@@ -16,7 +18,6 @@ from swarmpath.control.cell_paths import (
     tidy_cells,
 )
 from swarmpath.control.hazards import ObstacleForecast, box_cell_ranges, paint
-from swarmpath.control.cat_swarm.reservation import reserve_moves
 from swarmpath.errors import ConfigError
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator
@@ -112,10 +113,10 @@ def test_escape_cells_need_an_allowed_move_to_a_safe_cell() -> None:
     blocked = np.zeros((3, 5), bool)
     unsafe = np.zeros((3, 5), bool)
     unsafe[:, :3] = True  # columns 0-2 unsafe
-    out = K.escape_cells(unsafe, K.move_table(blocked))
+    out = H.escape_cells(unsafe, K.move_table(blocked))
     assert out[:, 2].all() and not out[:, 1].any() and out[:, 3:].all()
     blocked[:, 3] = True  # a wall: column 2 can no longer get out
-    out = K.escape_cells(unsafe, K.move_table(blocked))
+    out = H.escape_cells(unsafe, K.move_table(blocked))
     assert not out[:, 2].any()
 
 
@@ -125,14 +126,14 @@ def test_safe_tier_and_stay_depth_by_backward_induction() -> None:
     d2 = np.array([[1, 1, 0, 0, 0]], bool)
     d3 = np.array([[1, 1, 1, 0, 0]], bool)
     covered = [d1, d2, d3]
-    assert K.safe_tier(covered, moves, 1)[0][0].tolist() == [False, True, True, True, True]
+    assert H.safe_tier(covered, moves, 1)[0][0].tolist() == [False, True, True, True, True]
     # cell 1 is free next step and can reach cell 2 ... which is hit at step 3 unless left again
-    tier, then = K.safe_tier(covered, moves, 3)
+    tier, then = H.safe_tier(covered, moves, 3)
     assert tier[0].tolist() == [False, True, True, True, True]
     assert then[0].tolist() == [False, False, True, True, True]
-    assert K.stay_depth(covered)[0].tolist() == [0, 1, 2, 3, 3]
+    assert H.stay_depth(covered)[0].tolist() == [0, 1, 2, 3, 3]
     walled = K.move_table(np.array([[False, False, True, False, False]]))
-    assert K.safe_tier(covered, walled, 3)[0][0].tolist() == [False, False, False, True, True]
+    assert H.safe_tier(covered, walled, 3)[0][0].tolist() == [False, False, False, True, True]
 
 
 def test_warning_levels_decay_with_time_and_reach_one_cell_around() -> None:
@@ -141,75 +142,7 @@ def test_warning_levels_decay_with_time_and_reach_one_cell_around() -> None:
     d2 = np.zeros((1, 7), bool)
     d2[0, 3] = True
     cells = np.array([[x, 0] for x in range(7)])
-    assert K.warning_levels([d1, d2], cells, 0.5).tolist() == [1.0, 1.0, 0.5, 0.5, 0.5, 0.0, 0.0]
-
-
-def test_crowded_marks_robots_within_two_cells() -> None:
-    cells = np.array([[0, 0], [2, 2], [6, 6], [9, 9], [9, 7]])
-    assert K.crowded(cells, (10, 10)).tolist() == [True, True, False, True, True]
-
-
-# ---------------------------------------------------------------------------- joint moves
-def flat(x, y, w=10):
-    return y * w + x
-
-
-def lists(cells_per_robot, w=10):
-    """Candidate cell ids and diagonal block ids for robots given their 9 candidate cells."""
-    cand, blocks = [], []
-    for (x, y) in cells_per_robot:
-        cand.append([flat(x + dx, y + dy, w) for dx, dy in K.OFFSETS.tolist()])
-        blocks.append([(min(y, y + dy) + 1) * (w + 2) + min(x, x + dx) + 1 if dx and dy else -1
-                       for dx, dy in K.OFFSETS.tolist()])
-    return cand, blocks
-
-
-def idx(offset):
-    return [tuple(o) for o in K.OFFSETS.tolist()].index(offset)
-
-
-def test_reservation_lets_a_robot_follow_but_never_swap() -> None:
-    cells = [(1, 1), (2, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    east, west = idx((1, 0)), idx((-1, 0))
-    # robot 1 leads east, robot 0 follows into its cell
-    choice, _ = reserve_moves([1, 0], cur, cand, blocks, [[east, 0], [east, 0]], [[], []], [False, False])
-    assert choice == [east, east]
-    # head-on: robot 0 wants east, robot 1 wants west -> the second cannot swap
-    choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[east, 0], [west, 0]], [[], []], [False, False])
-    assert sorted(choice) == sorted([0, west]) or choice == [0, 0]
-    assert not (choice[0] == east and choice[1] == west)
-
-
-def test_reservation_refuses_crossing_diagonals_and_shared_cells() -> None:
-    cells = [(1, 1), (2, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    ne, nw = idx((1, 1)), idx((-1, 1))
-    choice, _ = reserve_moves([0, 1], cur, cand, blocks, [[ne, 0], [nw, 0]], [[], []], [False, False])
-    assert choice == [ne, 0]  # robot 1 would cross robot 0's diagonal
-    upleft = idx((-1, 1))
-    cells = [(1, 1), (3, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    choice, _ = reserve_moves([1, 0], cur, cand, blocks, [[ne, 0], [upleft, 0]], [[], []], [False, False])
-    assert choice == [0, upleft]  # both wanted (2, 2): the first in order gets it
-
-
-def test_pushing_makes_the_occupant_yield_and_asking_does_not() -> None:
-    cells = [(1, 1), (2, 1)]
-    cand, blocks = lists(cells)
-    cur = [flat(*c) for c in cells]
-    east, north = idx((1, 0)), idx((0, 1))
-    own = [[east, 0], [0]]  # robot 1 is happy where it is
-    pushed = [[], [north]]
-    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, pushed, [False, False])
-    assert choice == [0, 0] and yielded == [False, False]  # asked, it stays
-    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, pushed, [True, False])
-    assert choice == [east, north] and yielded == [False, True]  # pushed, it moves aside
-    choice, yielded = reserve_moves([0, 1], cur, cand, blocks, own, [[], []], [True, False])
-    assert choice == [0, 0]  # nowhere to go: the pusher tries its next candidate
+    assert H.warning_levels([d1, d2], cells, 0.5).tolist() == [1.0, 1.0, 0.5, 0.5, 0.5, 0.0, 0.0]
 
 
 # ---------------------------------------------------------------------------- obstacle forecast
@@ -364,3 +297,122 @@ def test_arrival_uses_the_exact_goal_and_start_off_cell_centres() -> None:
     assert validate_trajectory(world, traj) == []
     assert traj.status == "all_reached"
     assert np.allclose(traj.positions[-1], world.goals)
+
+
+# ---------------------------------------------------------------------------- the ranking handed to the core
+def test_dense_ranks_share_equal_keys_and_leave_deleted_copies_out() -> None:
+    from swarmpath.control.cat_swarm.ranking import NOT_ALLOWED, dense_ranks
+
+    k0 = np.array([[0, 1, 1, 0, 2, 1, 1, 1, 1]], float)
+    k1 = np.array([[5, 1, 1, 5, 0, 2, 2, 0, 3]], float)
+    valid = np.array([[True, True, True, True, True, True, True, False, True]])
+    ranks = dense_ranks([k0, k1], valid)
+    assert ranks.tolist() == [[0, 1, 1, 0, 4, 2, 2, NOT_ALLOWED, 3]]
+
+
+def test_swarm_keys_give_each_kind_of_robot_its_ranking() -> None:
+    from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
+
+    # four robots, the same fitness: copy 3 (N) is the shortest way, copy 1 (E) next
+    fitness = np.tile(np.array([5.0, 4.0, 4.6, 3.6, 4.6, 6.0, 6.4, 6.0, 5.4]), (4, 1))
+    score = fitness.copy()
+    score[:, 3] += 2.0           # an obstacle's warning on N: the swarm prefers E
+    tie = np.zeros((4, 9))
+    path_next = np.array([7, 7, 7, 7])      # the path goes S
+    follow = np.array([True, False, False, False])
+    path_ok = np.ones(4, bool)
+    stay_first = np.array([False, False, True, False])
+    first = np.array([False, False, False, True])
+    valid = np.ones((4, 9), bool)
+    ranks = dense_ranks(swarm_keys(fitness, score, tie, None, path_next, follow, path_ok, stay_first, first), valid)
+    best = np.argmin(ranks, axis=1)
+    assert best.tolist() == [7, 1, 0, 3]            # follow: its path; seek: eq. 12 + warning; parked; distance first
+    assert ranks[0, 0] == 1                          # a follower waits when its path cell is taken
+    assert ranks[1, 3] > ranks[1, 1]                 # the warning demotes N for the seeker ...
+    assert ranks[3, 3] < ranks[3, 1]                 # ... not for the robot that must progress
+    safety = np.zeros((4, 9), int)
+    safety[:, 8] = 2                                 # SE stays clear of obstacles longest
+    ranks = dense_ranks(swarm_keys(fitness, score, tie, safety, path_next, follow, path_ok, stay_first, first), valid)
+    assert np.argmin(ranks, axis=1).tolist() == [7, 8, 0, 3]
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_highest_priority_robot_progresses_whatever_the_swarm_prefers(seed) -> None:
+    """Reachability (PIBT's Theorem 1) through the cat swarm's ranking: the robot of highest
+    priority ranks by exact distance first, every other robot by the swarm's rules (random
+    paths, modes and warnings here); without the swap emulation, on a crowded open grid, the
+    top robot gets a best cell every step and walks a shortest path to its goal."""
+    from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
+    from swarmpath.control.pibt.core import GridGraph, decision_order, pibt_step, static_moves
+    from swarmpath.search.lazy_distance import LazyDistanceTables
+
+    rng = np.random.default_rng(seed)
+    blocked = np.zeros((8, 8), bool)
+    graph = GridGraph.build(blocked, 8, 0.0, 1.0)
+    moves_all = static_moves(blocked, 8)
+    free = np.argwhere(~blocked)[:, ::-1]
+    for _ in range(8):
+        n = int(rng.integers(20, 50))
+        cells = free[rng.choice(64, n, replace=False)]
+        goals = free[rng.choice(64, n, replace=False)]
+        tables = LazyDistanceTables(blocked)
+        handles = tables.acquire_many(goals)
+        start = tables.distance(handles[0], cells[0])
+        steps = 0
+        while np.any(cells[0] != goals[0]):
+            fitness = np.nan_to_num(tables.neighbour_costs(handles, cells), nan=np.inf)
+            valid = moves_all[cells[:, 1], cells[:, 0]]
+            first = np.zeros(n, bool)
+            first[0] = True
+            keys = swarm_keys(fitness, fitness + 3 * rng.random((n, 9)), rng.random((n, 9)), None,
+                              rng.integers(0, 9, n), rng.random(n) < 0.6, rng.random(n) < 0.8, rng.random(n) < 0.2,
+                              first)
+            flat = (cells[:, 1] * 8 + cells[:, 0]).astype(np.int32)
+            res = pibt_step(graph, flat, dense_ranks(keys, valid), valid, rng.random((n, 9)),
+                            decision_order(np.r_[1e9, rng.random(n - 1)]),
+                            goals=(goals[:, 1] * 8 + goals[:, 0]).astype(np.int32), slots=handles, tables=tables._c,
+                            swap=False, yield_way=True)
+            assert fitness[0, res.moves[0]] == np.min(fitness[0][valid[0]])
+            cells = cells + K.OFFSETS[res.moves.astype(int)]
+            steps += 1
+            assert steps <= 12
+        assert steps <= start + 1e-9   # one step per cell of (octile) distance at most
+        assert len({tuple(c) for c in cells.tolist()}) == n
+
+
+# ---------------------------------------------------------------------------- scale, the corner goal, a crowd
+def test_distances_come_from_lazy_tables_that_grow_with_what_the_robots_need() -> None:
+    """One robot on a 1500 x 1500 open map: no distance field, no whole-grid table per step;
+    the goal's table holds a small part of the map."""
+    n = 1500
+    world = World(RectBounds(n, n), static_map=StaticMap(np.zeros((n, n), bool), 1.0),
+                  robots=(Robot("a", (0.5, 0.5), (n - 20.5, n - 30.5), 0.0, S2),), name="big")
+    ctl = CatSwarmController()
+    traj = Simulator(world, ctl, None, seed=0, max_steps=20).run()
+    assert traj.n_steps == 20 and validate_trajectory(world, traj) == []
+    assert ctl.cells_.fields is None and ctl.tables_.live == 1
+    assert ctl.tables_.memory_bytes() < 0.1 * n * n * 8   # under a tenth of one distance field
+
+
+def test_a_goal_on_the_workspace_corner_is_reached_through_its_cell_centre() -> None:
+    world = World(RectBounds(10, 10), robots=(Robot("a", (0.5, 0.5), (10.0, 10.0), 0.0, S2),
+                                              Robot("b", (9.5, 0.5), (0.0, 10.0), 0.0, S2)), name="corner")
+    traj = Simulator(world, CatSwarmController(), None, seed=0, max_steps=60).run()
+    assert validate_trajectory(world, traj) == []
+    assert traj.status == "all_reached"
+    first = int(np.flatnonzero(np.all(traj.positions[:, 0] == (10.0, 10.0), axis=1))[0])
+    assert np.allclose(traj.positions[first - 1, 0], (9.5, 9.5))   # the cell's centre, then the corner
+
+
+def test_the_crossing_example_gets_every_robot_home() -> None:
+    """examples/crossing.yaml: six robots swap sides of a room through two doors while two carts
+    patrol (the old cat swarm got 1 of 6 home)."""
+    from pathlib import Path
+
+    from swarmpath.world import load_scenario
+
+    world = load_scenario(Path(__file__).parents[2] / "examples" / "crossing.yaml")
+    for seed in range(3):
+        traj = Simulator(world, CatSwarmController(), None, seed=seed).run()
+        assert validate_trajectory(world, traj) == []
+        assert traj.status == "all_reached" and not traj.contacts, seed

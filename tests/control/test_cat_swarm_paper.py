@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from swarmpath.control import hazards as H
 from swarmpath.control.cat_swarm import CatSwarmController, CatSwarmPaperController
 from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.errors import ConfigError
@@ -60,9 +61,9 @@ def test_conflict_groups_are_connected_components_among_members() -> None:
 
 
 def test_stay_depth_with_no_steps_is_zero_everywhere() -> None:
-    assert K.stay_depth([], (2, 3)).tolist() == [[0, 0, 0], [0, 0, 0]]
+    assert H.stay_depth([], (2, 3)).tolist() == [[0, 0, 0], [0, 0, 0]]
     with pytest.raises(ValueError):
-        K.stay_depth([])
+        H.stay_depth([])
 
 
 # ---------------------------------------------------------------------------- the paper's rules

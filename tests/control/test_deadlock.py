@@ -1,12 +1,12 @@
-"""Deadlock handling: no-progress detection, the priority order, and the cat swarm resolving
-(or honestly reporting) the classic deadlocks: head-on in a corridor, a robot parked on its
-goal in the way, and a swap that has no room at all."""
+"""Deadlock handling: no-progress detection, and the cat swarm on the PIBT core resolving (or
+honestly reporting) the classic deadlocks: head-on in a corridor, a robot parked on its goal
+in the way, and a swap that has no room at all."""
 from __future__ import annotations
 
 import numpy as np
 
 from swarmpath.control.cat_swarm import CatSwarmController
-from swarmpath.control.cat_swarm.deadlock import NOT_URGENT, DeadlockMonitor, priority_order, progress_update
+from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor, progress_update
 from swarmpath.metrics.summary import run_summary
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator
@@ -41,20 +41,6 @@ def test_monitor_marks_stuck_robots_urgent_and_reports_once() -> None:
     assert mon.urgent.tolist() == [True, False]  # urgent until it reaches its goal
     mon.update(9, np.array([0.0, 1.0]), np.array([True, False]))
     assert mon.urgent.tolist() == [False, False]
-
-
-def test_priority_order() -> None:
-    n = 6
-    urgent_since = np.full(n, NOT_URGENT)
-    urgent_since[[3, 4]] = [7, 5]
-    danger = np.array([False, False, True, False, False, False])
-    threatened = np.array([False, True, False, False, False, False])
-    options = np.full(n, 3)
-    active = np.array([True, True, True, True, True, False])
-    remaining = np.array([4.0, 1.0, 1.0, 2.0, 2.0, 0.0])
-    order = priority_order(urgent_since, danger, threatened, options, active, remaining, np.zeros(n))
-    # endangered, threatened, urgent (earliest first), travelling (longest first), parked
-    assert order.tolist() == [2, 1, 4, 3, 0, 5]
 
 
 # ---------------------------------------------------------------------------- scenarios

@@ -1,5 +1,6 @@
 """Fish swarm controller (Karim 2014): the behaviour kernels on hand-computed cases, the
-controller's safety and bookkeeping, and the acceptance statistics of issue 7."""
+controller's safety and bookkeeping, several robots on the PIBT core, and the acceptance
+statistics of the paper's experiment."""
 from __future__ import annotations
 
 import math
@@ -30,6 +31,7 @@ from swarmpath.world import (
     Rect,
     RectBounds,
     Robot,
+    StaticMap,
     World,
     load_scenario,
     world_from_movingai,
@@ -223,6 +225,41 @@ def test_several_robots_are_fish_to_each_other_and_never_collide() -> None:
         assert traj.status == ALL_REACHED, seed
         assert validate_trajectory(world, traj) == [], seed
         assert traj.modes.shape == (traj.n_steps, 4)
+
+
+def test_a_crowd_decides_jointly_on_the_core() -> None:
+    """100 robots on random-32-32-10 (distance-field food): the behaviours rank, the PIBT core
+    decides; every robot arrives, no contact (robots deciding one after the other used to
+    leave 9 of them short at 300 steps)."""
+    world = world_from_movingai(DATA / "random-32-32-10.map", DATA / "random-32-32-10-random-1.scen", 100)
+    ctl = FishSwarmController(food="distance-field")
+    traj = Simulator(world, ctl, seed=0, max_steps=300).run()
+    assert traj.status == ALL_REACHED
+    assert validate_trajectory(world, traj) == []
+    assert {"prey", "follow", "swarm"} & set(traj.mode_names)
+
+
+def test_head_on_in_a_corridor_the_core_lets_the_fish_pass() -> None:
+    """Two robots swap the ends of a 1-wide corridor with a side pocket: one steps into the
+    pocket when the other pushes (priority inheritance), then both go on."""
+    blocked = np.ones((3, 7), bool)
+    blocked[1, :] = False
+    blocked[2, 3] = False
+    robots = (Robot("a", (0.5, 1.5), (6.5, 1.5), 0.0, math.sqrt(2)), Robot("b", (6.5, 1.5), (0.5, 1.5), 0.0, math.sqrt(2)))
+    world = World(RectBounds(7, 3), static_map=StaticMap(blocked, 1.0), robots=robots, name="corridor")
+    for seed in range(3):
+        traj = Simulator(world, FishSwarmController(food="distance-field"), seed=seed, max_steps=100).run()
+        assert traj.status == ALL_REACHED, seed
+        assert validate_trajectory(world, traj) == []
+        assert np.any(np.floor(traj.positions[:, :, 1]) == 2)   # someone used the pocket
+
+
+def test_a_robot_sees_only_the_robots_in_its_visual_range() -> None:
+    from swarmpath.control.fish_swarm.controller import _CellIndex
+
+    near = _CellIndex(np.array([[0, 0], [1, 1], [3, 3], [2, 0], [1, 1]]))
+    assert near.around(np.array([1, 1]), 1, skip=1).tolist() == [0, 3, 4]
+    assert near.around(np.array([1, 1]), 2, skip=4).tolist() == [0, 1, 2, 3]
 
 
 def test_keeps_out_of_a_random_walkers_reach() -> None:

@@ -38,8 +38,10 @@ DATA = MOVINGAI
 S2 = float(np.sqrt(2))
 
 
-def run(world, seed=0, max_steps=None, **kw):
-    return Simulator(world, PIBTController(**kw), seed=seed, max_steps=max_steps).run()
+def run(world, seed=0, max_steps=None, controller="pibt", **kw):
+    from swarmpath.registry import CONTROLLERS
+
+    return Simulator(world, CONTROLLERS.get(controller)(**kw), seed=seed, max_steps=max_steps).run()
 
 
 def arrived(world, traj) -> np.ndarray:
@@ -155,6 +157,39 @@ def test_the_highest_priority_robot_always_gets_its_best_cell(connectivity):
         assert len({tuple(c) for c in cells.tolist()}) == n
 
 
+def test_robots_that_must_leave_decide_first_the_most_constrained_first():
+    prio = np.array([5.0, 4.0, 3.0, 2.0])
+    urgent = np.array([False, True, True, False])
+    assert decision_order(prio, urgent).tolist() == [1, 2, 0, 3]
+    assert decision_order(prio, urgent, np.array([9, 3, 1, 9])).tolist() == [2, 1, 0, 3]
+
+
+def test_a_robot_left_without_a_way_out_chooses_first_on_the_retry():
+    """Two robots must leave their cells (a moving obstacle may reach both). The first to
+    decide takes the cell the other needed, or crosses its diagonal; pibt_step_escaping lets
+    the robot left behind choose first and both get out."""
+    from swarmpath.control.pibt.core import pibt_step_escaping
+
+    blocked = np.zeros((4, 4), bool)
+    graph = GridGraph.build(blocked, 8, 0.0, 1.0)
+    cells = np.array([[2, 2], [2, 1]])                  # A above B
+    flat = (cells[:, 1] * 4 + cells[:, 0]).astype(np.int32)
+    allowed = np.zeros((2, 9), bool)
+    west, south_west, north_west = 5, 6, 4
+    allowed[0, [west, south_west]] = True               # A: to (1, 2) or (1, 1)
+    allowed[1, [north_west, west]] = True               # B: to (1, 2) or (1, 1)
+    dist = np.full((2, 9), 9.0)
+    dist[0, west], dist[0, south_west] = 0.0, 1.0
+    dist[1, north_west], dist[1, west] = 0.0, 1.0
+    order = np.array([1, 0], np.int32)                  # B first
+    kw = {"goals": flat.copy()}
+    plain = pibt_step(graph, flat, dist, allowed, np.zeros((2, 9)), order, **kw)
+    assert plain.moves.tolist() == [STAY, north_west]   # A is left in the obstacle's way
+    both = pibt_step_escaping(graph, flat, dist, allowed, np.zeros((2, 9)), order, danger=np.ones(2, bool), **kw)
+    assert both.moves.tolist() == [west, west]
+    assert both.conflicts == 0
+
+
 def test_priorities_follow_section_3_2():
     base = np.array([0.1, 0.7, 0.3])
     p = update_priorities(base.copy(), np.array([False, True, False]), base)
@@ -258,6 +293,9 @@ def test_bad_parameters_raise_config_errors():
     world = world_from_movingai(DATA / "empty-8-8.map", DATA / "empty-8-8-even-10.scen", 4)
     with pytest.raises(ConfigError, match="connectivity"):
         PIBTController(connectivity=6).reset(world, None, np.random.default_rng(0))
+    for kw in ({"lookahead": -1}, {"leave_early": -2}, {"lookahead": 1.5}):
+        with pytest.raises(ConfigError, match=next(iter(kw))):
+            PIBTController(**kw).reset(world, None, np.random.default_rng(0))
     slow = world.replace(robots=tuple(Robot(r.id, r.start, r.goal, 0.0, 0.5) for r in world.robots))
     with pytest.raises(ConfigError, match="max_speed"):
         PIBTController().reset(slow, None, np.random.default_rng(0))
@@ -314,11 +352,15 @@ def corridor_world(kind: str, n_obstacles: int, n_robots: int = 6, room: int = 1
                  moving_obstacles=tuple(obstacles), name=f"corridor-{kind}")
 
 
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
 @pytest.mark.parametrize("kind,count", [("bounce", 5), ("bounce8", 10), ("turn-every", 8), ("random-walk", 12),
                                         ("redraw", 20), ("waypoints", 6)])
-def test_narrow_passages_with_moving_obstacles(kind, count):
+def test_narrow_passages_with_moving_obstacles(kind, count, controller):
+    """Both controllers on the core (cat-swarm ranks with the swarm's rules)."""
     world = corridor_world(kind, count)
-    traj = run(world, max_steps=400)
+    traj = run(world, max_steps=400, controller=controller)
+    problems = validate_trajectory(world, traj)   # the independent check finds the recorded contacts only
+    assert len(problems) == len(traj.contacts) and all("robot_moving" in v.problem for v in problems)
     kinds = [c.kind for c in traj.contacts]
     assert "robot_robot" not in kinds and "robot_static" not in kinds
     assert arrived(world, traj).all(), traj.status
@@ -329,11 +371,12 @@ def test_narrow_passages_with_moving_obstacles(kind, count):
 
 
 @pytest.mark.slow
-def test_many_obstacles_and_robots_in_the_passages_over_seeds():
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_many_obstacles_and_robots_in_the_passages_over_seeds(controller):
     for kind in ("bounce8", "random-walk", "waypoints"):
         world = corridor_world(kind, 40, n_robots=10, room=22, height=24)
         for seed in range(2):
-            traj = run(world, seed=seed, max_steps=600)
+            traj = run(world, seed=seed, max_steps=600, controller=controller)
             kinds = [c.kind for c in traj.contacts]
             assert "robot_robot" not in kinds and "robot_static" not in kinds, (kind, seed)
             assert arrived(world, traj).all(), (kind, seed)

@@ -1,5 +1,5 @@
-"""Acceptance of the online phase (issue 4): the cat swarm against the simulator's own
-checker on the paper's scenario, a crowded random map with moving obstacles, and a MovingAI
+"""Acceptance of the online phase: the cat swarm (and pibt) against the simulator's own checker
+on the paper's scenario, a crowded random map with moving obstacles, and a MovingAI
 benchmark; plus determinism. Numbers are printed (run with -s to see them)."""
 from __future__ import annotations
 
@@ -87,22 +87,74 @@ def random_world(seed: int, n_robots: int = 100, n_moving: int = 20, size: int =
                  robots=robots, name=f"random64-{seed}")
 
 
+#: The controllers of the 100-robot test: cat-swarm as it is, and pibt as cautious as cat-swarm
+#: among moving obstacles (its defaults look one step less far and get cornered now and then).
+ON_THE_CORE = {"cat-swarm": {}, "pibt": {"lookahead": 4, "leave_early": 2}}
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", range(10))
-def test_100_robots_among_20_moving_obstacles_collision_free(seed) -> None:
-    """Moving obstacles never stop, so robots keep stepping off their goals to let them
-    pass: success counts robots that reached their goal within the budget; how many stand
-    on it at the last step is printed too."""
+@pytest.mark.parametrize("controller", sorted(ON_THE_CORE))
+def test_100_robots_among_20_moving_obstacles_collision_free(controller) -> None:
+    """10 seeds, 250 steps: no contact of any kind, every robot reaches its goal, and at the
+    last step at least 80 % stand on it. The obstacles never stop, so robots keep stepping
+    off their goals to let them pass; all 100 on their goals at once needs a step at which no
+    goal lies where an obstacle may be next, which the next test shows does not come in time
+    on every seed."""
+    from swarmpath.registry import CONTROLLERS
+
+    ends = []
+    for seed in range(10):
+        world = random_world(seed)
+        ctl = CONTROLLERS.get(controller)(**ON_THE_CORE[controller])
+        traj = Simulator(world, ctl, PLANNERS.get("astar")().plan(world, rng=seed), seed=seed, max_steps=250).run()
+        assert validate_trajectory(world, traj) == [], (controller, seed)
+        at = np.linalg.norm(traj.positions - world.goals[None], axis=2) <= 1e-9
+        assert at.any(axis=0).all(), (controller, seed)
+        ends.append(at[-1].mean())
+        print(f"\nrandom64 {controller} seed {seed}: collisions 0, reached 100%, at goal at the end {at[-1].mean():.0%} "
+              f"({traj.status}), robots at their goals over the last 100 steps {at[-100:].mean():.1%}")
+    assert min(ends) >= 0.8
+
+
+def goal_danger_steps(seed: int, steps: int = 250) -> tuple[np.ndarray, int]:
+    """For the 64 x 64 world of ``seed``: per step, how many goals lie where a moving obstacle
+    may be at the next step (D_1 of the forecast, every move its motion model allows); and a
+    lower bound on the step at which every robot can first be on its goal (the longest
+    shortest path, in steps). The obstacles here never react to robots, so their motion, and
+    this count, is the same whatever the controller does."""
+    from swarmpath.control.base import Controller, Decision
+    from swarmpath.control.hazards import ObstacleForecast
+
+    class Still(Controller):
+        def reset(self, world, plan, rng):
+            pass
+
+        def act(self, obs):
+            return Decision(obs.positions.copy())
+
     world = random_world(seed)
-    traj = Simulator(world, CatSwarmController(), PLANNERS.get("astar")().plan(world, rng=seed), seed=seed,
-                     max_steps=250).run()
-    assert validate_trajectory(world, traj) == []
-    at = np.linalg.norm(traj.positions - world.goals[None], axis=2) <= 1e-9
-    reached = at.any(axis=0).mean()
-    deadlocks = sorted({e["robot"] for e in traj.events if e["kind"] == "deadlock"})
-    print(f"\nrandom64 seed {seed}: collisions 0, reached {reached:.0%}, at goal at the end {at[-1].mean():.0%}, "
-          f"robots reported in deadlock {len(deadlocks)}")
-    assert reached >= 0.95
+    traj = Simulator(world, Still(), seed=seed, max_steps=steps, deadlock_window=10 ** 6,
+                     progress_window=10 ** 6).run()
+    grid = world.grid()
+    fc = ObstacleForecast(world, grid)
+    cells = grid.cell_of(world.goals)
+    count = np.array([fc.danger(traj.obstacle_positions[t], traj.obstacle_positions[t - 1])[cells[:, 1], cells[:, 0]]
+                      .sum() for t in range(1, traj.n_steps + 1)])
+    first = max(int(np.max(np.abs(grid.cell_of(r.goal) - grid.cell_of(r.start)))) for r in world.robots)
+    return count, first
+
+
+@pytest.mark.slow
+def test_all_robots_home_at_once_within_250_steps_is_out_of_reach_on_seed_0() -> None:
+    """Why the 64 x 64 test cannot ask for 100 % on the goals at the end: on seed 0, after the
+    earliest step at which all robots could first be home, no step up to 250 leaves every goal
+    out of an obstacle's next-step reach. A robot standing there at the end would be hit at
+    the next step whenever the obstacle moves its way; only a controller betting on the run's
+    end could show 100 %."""
+    count, first = goal_danger_steps(0)
+    assert first > 23
+    assert np.all(count[first - 1:] > 0)
+    assert np.mean(count) > 3      # on average more than three goals are in reach at every step
 
 
 # ---------------------------------------------------------------------------- MovingAI

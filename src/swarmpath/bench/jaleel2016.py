@@ -146,10 +146,11 @@ def run_online(world: World, plan: Plan, seeds, *, controller: Callable[[], obje
 
 def ladder_rungs() -> list[Rung]:
     """From ``cat-swarm-paper`` to ``cat-swarm``, one addition a rung. ``cat-swarm`` has no
-    switch for its forecast, reservation and exact check, so rung 2 brings them together
-    (with every switchable addition at the paper's value); the rest are its switches."""
+    switch for the PIBT core (joint decision), its obstacle forecast and its exact check, so
+    rung 2 brings them together with every switchable addition at the paper's value (or off);
+    the rest are its switches, the core's guarantees first."""
     paper_values = {"lookahead": 1, "leave_early": 0, "hazard_weight": 0.0, "obstacle_alert": "medium"}
-    no_deadlock = {"patience": 10 ** 9}
+    bare = {**paper_values, "lead": False, "patience": None, "swap": False}
 
     def ours(**kw):
         return lambda: CatSwarmController(**kw)
@@ -159,17 +160,25 @@ def ladder_rungs() -> list[Rung]:
         Rung("mixture split per conflict group (`split=\"group\"`)",
              "two robots in conflict that both trace (the split over all robots gives seek to the 5 longest "
              "paths of the world)", lambda: CatSwarmPaperController(split="group")),
-        Rung("`cat-swarm` core (no switch): every possible obstacle move forecast, one robot per cell, swap "
-             "and diagonal crossing in priority order, robots asked to make room, exact check of off-centre "
-             "moves (`lookahead=1, leave_early=0, hazard_weight=0, obstacle_alert=\"medium\"`, no pushing)",
-             "two robots entering one cell or swapping; an obstacle that turns into a robot's cell",
-             ours(**paper_values, **no_deadlock)),
-        Rung("deadlock handling: a robot without progress for 6 steps pushes (`patience=6`)",
-             "robots waiting for each other for good", ours(**paper_values)),
+        Rung("the PIBT core (no switch): the swarm's rules rank each robot's 9 candidates, the core decides for "
+             "all robots at once (one robot per cell, no swap or crossing, priority inheritance, backtracking); "
+             "every possible obstacle move forecast; exact check of off-centre moves (`lookahead=1, leave_early=0, "
+             "hazard_weight=0, obstacle_alert=\"medium\", lead=False, patience=None, swap=False`)",
+             "two robots entering one cell, swapping or crossing; a robot in another's way that does not move; an "
+             "obstacle that turns into a robot's cell", ours(**bare)),
+        Rung("the robot of highest priority ranks by exact distance first (`lead=True`)",
+             "nobody sure to progress: PIBT's reachability needs its ranking for the top robot",
+             ours(**{**bare, "lead": True})),
+        Rung("robots without progress for 6 steps rank by exact distance first (`patience=6`)",
+             "robots whose swarm preference keeps them waiting behind others",
+             ours(**{**bare, "lead": True, "patience": 6})),
+        Rung("swap emulation (`swap=True`)", "two robots that must pass each other in a corridor",
+             ours(**paper_values)),
         Rung("alert at the long class (`obstacle_alert=\"long\"`)", "reacting one class later than the "
              "obstacle's reach", ours(**{**paper_values, "obstacle_alert": "long"})),
-        Rung("look-ahead escape over 5 steps (`lookahead=5`)", "a robot cornered in a dead end or on an "
-             "obstacle's line", ours(lookahead=5, leave_early=0, hazard_weight=0.0)),
+        Rung("look-ahead escape over 5 steps (`lookahead=5`; 2 for a robot without progress for 20 steps)",
+             "a robot cornered in a dead end or on an obstacle's line",
+             ours(lookahead=5, leave_early=0, hazard_weight=0.0)),
         Rung("leave early, 2 steps (`leave_early=2`)", "a robot parked where an obstacle arrives next",
              ours(hazard_weight=0.0)),
         Rung("warning term in the fitness (`hazard_weight=2`) = `cat-swarm`", "robots drifting into an "

@@ -17,10 +17,13 @@ Everything is vectorised over obstacles; boxes are painted with a 2-D difference
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.world.motions import FORECASTS
+from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle
 
@@ -77,6 +80,32 @@ def paint(shape: tuple[int, int], ranges: IntArray) -> BoolArray:
         np.add.at(out, (y1, x0), -1)
         np.add.at(out, (y1, x1), 1)
     return out.cumsum(0).cumsum(1)[:h, :w] > 0
+
+
+def paint_windows(ranges: IntArray, origins: IntArray, size: int) -> BoolArray:
+    """Boolean windows (r, size, size): window w is True where the union of the cell ranges
+    (k, 4) covers cell ``origins[w] + (dx, dy)`` (``[w, dy, dx]``). Only the ranges that
+    overlap a window are painted into it (a difference array per window), so the cost grows
+    with windows x ranges, not with the grid."""
+    r = len(origins)
+    out = np.zeros((r, size + 1, size + 1), np.int32)
+    if len(ranges) and r:
+        o = np.asarray(origins, np.int64)
+        chunk = max(1, 1_000_000 // len(ranges))  # bound the (windows x ranges) temporaries
+        for s0 in range(0, r, chunk):
+            oo = o[s0:s0 + chunk]
+            x0 = np.clip(ranges[None, :, 0] - oo[:, None, 0], 0, size)
+            y0 = np.clip(ranges[None, :, 1] - oo[:, None, 1], 0, size)
+            x1 = np.clip(ranges[None, :, 2] - oo[:, None, 0], 0, size)
+            y1 = np.clip(ranges[None, :, 3] - oo[:, None, 1], 0, size)
+            ok = (x0 < x1) & (y0 < y1)
+            win = np.nonzero(ok)[0] + s0
+            x0, y0, x1, y1 = x0[ok], y0[ok], x1[ok], y1[ok]
+            np.add.at(out, (win, y0, x0), 1)
+            np.add.at(out, (win, y0, x1), -1)
+            np.add.at(out, (win, y1, x0), -1)
+            np.add.at(out, (win, y1, x1), 1)
+    return out.cumsum(1).cumsum(2)[:, :size, :size] > 0
 
 
 class ObstacleForecast:
@@ -210,25 +239,27 @@ class ObstacleForecast:
         the next step), grown by ``margin`` cells."""
         if self.m == 0:
             return np.zeros(self.shape, bool)
+        return paint(self.shape, self._danger_ranges(positions, previous, margin))
+
+    def _danger_ranges(self, positions: FloatArray, previous: FloatArray, margin: int) -> IntArray:
         p = np.asarray(positions, float).reshape(self.m, 2)
         cand, possible, extra = self.next_positions(p, previous)
         j, s = np.nonzero(possible)
         q = cand[j, s]
         lo = np.minimum(p[j], q) + self.keep_lo[j] - extra[j, None]
         hi = np.maximum(p[j], q) + self.keep_hi[j] + extra[j, None]
-        return paint(self.shape, box_cell_ranges(lo, hi, self.resolution, margin))
+        return box_cell_ranges(lo, hi, self.resolution, margin)
 
-    def coverage(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
-                 ) -> list[BoolArray]:
-        """[D_1, ..., D_steps]: the cells (height, width) an obstacle may cover in phase 1 of
-        each of the next ``steps`` steps. D_1 is :meth:`danger`. For k >= 2, D_k holds the
-        sweep from step k - 1 to step k: the bouncing models go straight on while their way
-        is free (``f`` free steps) and may take any direction from the first blocked step
-        on, so from step f on they lie within (k - f) steps of travel of where the straight
-        run ends; random walkers lie within k steps of travel of where they are now."""
-        out = [self.danger(positions, previous, margin=margin)]
-        if steps < 2 or self.m == 0:
-            return out + [np.zeros(self.shape, bool) for _ in range(steps - 1)]
+    def step_ranges(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
+                    ) -> list[IntArray]:
+        """The cell ranges (k, 4) whose union is D_k, for k = 1 ... ``steps`` (see
+        :meth:`coverage`): what :func:`paint` (the whole grid) or :func:`paint_windows` (the
+        cells around some robots) turns into cell sets."""
+        if self.m == 0:
+            return [np.zeros((0, 4), np.int64) for _ in range(steps)]
+        out = [self._danger_ranges(positions, previous, margin)]
+        if steps < 2:
+            return out
         m = self.m
         p = np.asarray(positions, float).reshape(m, 2)
         d = p - np.asarray(previous, float).reshape(m, 2)
@@ -248,7 +279,34 @@ class ObstacleForecast:
             b = np.where(sure[:, None], p + k * d, a)
             lo = np.minimum(a, b) + self.keep_lo - grow
             hi = np.maximum(a, b) + self.keep_hi + grow
-            out.append(paint(self.shape, box_cell_ranges(lo, hi, self.resolution, margin)))
+            out.append(box_cell_ranges(lo, hi, self.resolution, margin))
+        return out
+
+    def coverage(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
+                 ) -> list[BoolArray]:
+        """[D_1, ..., D_steps]: the cells (height, width) an obstacle may cover in phase 1 of
+        each of the next ``steps`` steps. D_1 is :meth:`danger`. For k >= 2, D_k holds the
+        sweep from step k - 1 to step k: the bouncing models go straight on while their way
+        is free (``f`` free steps) and may take any direction from the first blocked step
+        on, so from step f on they lie within (k - f) steps of travel of where the straight
+        run ends; random walkers lie within k steps of travel of where they are now.
+
+        Whole-grid arrays: a controller that needs the cells around its robots only asks
+        :meth:`windows` (the cost then follows the robots, not the map)."""
+        return [paint(self.shape, r) for r in self.step_ranges(positions, previous, steps, margin=margin)]
+
+    def windows(self, positions: FloatArray, previous: FloatArray, steps: int, origins: IntArray, size: int, *,
+                margin: int = 0) -> BoolArray:
+        """D_1 ... D_steps of :meth:`coverage` on square windows of the grid only: bool array
+        (steps, r, size, size), window w holding cells ``origins[w] + (0 ... size - 1)`` (x and
+        y; ``out[k - 1, w, dy, dx]`` is D_k at cell ``origins[w] + (dx, dy)``). Cells outside
+        the grid are never covered. Exactly the whole-grid sets on those cells."""
+        h, w = self.shape
+        out = np.zeros((steps, len(origins), size, size), bool)
+        for k, r in enumerate(self.step_ranges(positions, previous, steps, margin=margin)):
+            clipped = np.stack([np.clip(r[:, 0], 0, w), np.clip(r[:, 1], 0, h), np.clip(r[:, 2], 0, w),
+                                np.clip(r[:, 3], 0, h)], axis=1) if len(r) else r
+            out[k] = paint_windows(clipped, origins, size)
         return out
 
     def influence(self, steps: int) -> float:
@@ -282,3 +340,181 @@ class ObstacleForecast:
             lo, hi = p[j] + self.keep_lo[j], p[j] + self.keep_hi[j]
             bad[near] |= segment_crosses_open_box(a, b, lo, hi).reshape(len(near), c)
         return bad
+
+
+# ---------------------------------------------------------------------------------- look-ahead
+# Which cells keep a robot clear of every moving obstacle for several steps, whatever the
+# obstacles do: backward induction over D_1 ... D_K on small windows around the robots that
+# an obstacle can reach at all (a controller's cost follows the robots near obstacles, never
+# the map's area).
+
+def window_moves(blocked: BoolArray, connectivity: int = 8) -> BoolArray:
+    """The 9 grid moves (``move_rules.GRID_MOVES`` order, stay first) from every inner cell of
+    ``blocked`` (..., s + 2, s + 2), a window with a one-cell ring (outside the grid:
+    blocked): bool array (..., s, s, 9). Staying needs a free cell; a move a free target, a
+    diagonal also both orthogonal neighbours free (no corner cutting), and none with
+    4-connectivity. On a whole grid padded with blocked cells it is
+    :func:`swarmpath.control.pibt.core.static_moves`."""
+    b = np.asarray(blocked, bool)
+    s0, s1 = b.shape[-2] - 2, b.shape[-1] - 2
+    free = ~b
+    here = free[..., 1:1 + s0, 1:1 + s1]
+    out = np.zeros(b.shape[:-2] + (s0, s1, 9), bool)
+    for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+        if connectivity == 4 and dx and dy:
+            continue
+        ok = here & free[..., 1 + dy:1 + dy + s0, 1 + dx:1 + dx + s1]
+        if dx and dy:
+            ok &= free[..., 1:1 + s0, 1 + dx:1 + dx + s1] & free[..., 1 + dy:1 + dy + s0, 1:1 + s1]
+        out[..., a] = ok
+    return out
+
+
+def escape_cells(unsafe: BoolArray, moves: BoolArray) -> BoolArray:
+    """Cells with a way out, shape (..., h, w): some allowed move (``moves`` (..., h, w, 9),
+    staying included) reaches a cell that is not ``unsafe`` (..., h, w); cells beyond the
+    array count as unsafe. A robot that ends its step on such a cell can still get clear next
+    step, wherever the obstacles go (``unsafe`` = what they may cover the step after)."""
+    u = np.asarray(unsafe, bool)
+    h, w = u.shape[-2:]
+    pad = np.ones(u.shape[:-2] + (h + 2, w + 2), bool)
+    pad[..., 1:-1, 1:-1] = u
+    out = np.zeros(u.shape, bool)
+    for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+        out |= moves[..., a] & ~pad[..., 1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+    return out
+
+
+def safe_tier(covered, moves: BoolArray, depth: int) -> tuple[BoolArray, BoolArray]:
+    """Cells where a robot may end this step and still keep clear of every moving obstacle
+    for ``depth`` steps whatever the obstacles do, shape (..., h, w). ``covered`` = [D_1,
+    ..., D_K] (K >= depth, each (..., h, w)) are the cells obstacles may cover in each of the
+    next K steps. Backward induction: S_depth = not D_depth, S_k = not D_k and one allowed
+    move away from S_(k+1). Returns (S_1, S_2) (S_2: where the robot must be able to go next
+    step; all True for depth 1)."""
+    safe = ~np.asarray(covered[depth - 1], bool)
+    after = np.ones_like(safe)
+    for k in range(depth - 1, 0, -1):
+        after = safe
+        safe = ~np.asarray(covered[k - 1], bool) & escape_cells(~safe, moves)
+    return safe, after
+
+
+def stay_depth(covered, shape: tuple[int, ...] | None = None) -> NDArray[np.int64]:
+    """For every cell, for how many of the next K steps it stays clear of every obstacle
+    (0 ... K), shape of one D_k: how long a robot could wait there. With K = 0 steps (an
+    empty list) every cell gets 0; ``shape`` gives the shape then."""
+    if len(covered) == 0:
+        if shape is None:
+            raise ValueError("stay_depth: give the grid's shape when there are no steps")
+        return np.zeros(shape, dtype=np.int64)
+    clear = np.ones(np.shape(covered[0]), dtype=bool)
+    depth = np.zeros(np.shape(covered[0]), dtype=np.int64)
+    for d in covered:
+        clear &= ~np.asarray(d, bool)
+        depth += clear
+    return depth
+
+
+def warning_levels(covered, cells: IntArray, decay: float) -> FloatArray:
+    """A soft warning for ``cells`` (..., 2) in [0, 1]: decay ** (k - 1) when an obstacle may
+    cover a cell within one cell of it k steps from now (k = 1, 2, ...), the largest value
+    where several apply. ``covered[k]`` is a grid (h, w) (cells clipped into it) or a batch
+    of windows (r, h, w), then ``cells`` (r, ..., 2) are window coordinates of window r.
+    Robots step out of an obstacle's way early instead of being cornered."""
+    first = np.asarray(covered[0])
+    h, w = first.shape[-2:]
+    ring = np.asarray(cells)[..., None, :] + GRID_MOVES
+    x = np.clip(ring[..., 0], 0, w - 1)
+    y = np.clip(ring[..., 1], 0, h - 1)
+    rows = () if first.ndim == 2 else (np.arange(first.shape[0]).reshape((-1,) + (1,) * (x.ndim - 1)),)
+    out = np.zeros(np.shape(cells)[:-1])
+    for k in range(len(covered) - 1, -1, -1):
+        near = np.asarray(covered[k])[rows + (y, x)].any(axis=-1)
+        out = np.where(near, decay ** k, out)
+    return out
+
+
+@dataclass(frozen=True)
+class HazardWindows:
+    """The moving-obstacle look-ahead of the robots an obstacle can reach within the next
+    ``steps`` steps, on a square window around each (built by :func:`hazard_windows`).
+
+    rows (r,) : those robots' indices; origin (r, 2) : cell (x, y) of each window's corner;
+    covered (steps, r, s, s) : D_1 ... D_steps (:meth:`ObstacleForecast.coverage`) on the
+    windows; moves (r, s, s, 9) : the static grid moves from each window cell."""
+
+    rows: IntArray
+    origin: IntArray
+    covered: BoolArray
+    moves: BoolArray
+
+    def local(self, cells: IntArray) -> IntArray:
+        """Window coordinates of grid cells (r, ..., 2), one leading row per window."""
+        c = np.asarray(cells, np.int64)
+        return c - self.origin.reshape((-1,) + (1,) * (c.ndim - 2) + (2,))
+
+    def at(self, grid, cells: IntArray) -> BoolArray:
+        """The value of ``grid`` (r, s, s) (one of ``covered`` or a tier) at grid cells
+        (r, ..., 2), which must lie inside each row's window."""
+        c = self.local(cells)
+        rows = np.arange(len(self.rows)).reshape((-1,) + (1,) * (c.ndim - 2))
+        return grid[rows, c[..., 1], c[..., 0]]
+
+    def tiers(self, allowed: BoolArray, dest: IntArray, depth: int | IntArray, exits: BoolArray | None = None
+              ) -> tuple[BoolArray, BoolArray]:
+        """Keep each robot to the most cautious tier that leaves it a candidate: for d =
+        ``depth`` (one for all, or (r,) per robot) down to 2, the candidates (``allowed`` (r,
+        9), reaching cells ``dest`` (r, 9, 2)) from which the robot can keep clear for d
+        steps; a robot with none keeps its candidates for the next d. ``exits`` (r, 9, 9): the moves a robot can make after each
+        candidate (default: the static moves of the candidate's cell; less from an exact goal
+        off its cell centre). Returns (allowed, threatened): threatened robots must leave
+        their cell to stay in their tier."""
+        r = len(self.rows)
+        allowed = np.asarray(allowed, bool).copy()
+        threatened = np.zeros(r, bool)
+        undecided = np.ones(r, bool)
+        if exits is None:
+            exits = self.at(self.moves, dest)
+        around = np.asarray(dest)[..., None, :] + GRID_MOVES            # (r, 9, 9, 2)
+        base = allowed.copy()
+        depth = np.broadcast_to(np.asarray(depth, np.int64), (r,))
+        for d in range(int(depth.max(initial=0)), 1, -1):
+            _, then = safe_tier(self.covered, self.moves, d)
+            strict = base & ~self.at(self.covered[0], dest) & np.any(exits & self.at(then, around), axis=-1)
+            usable = strict.any(axis=1) & undecided & (depth >= d)
+            allowed = np.where(usable[:, None], strict, allowed)
+            threatened |= usable & ~strict[:, 0]
+            undecided &= ~usable
+            if not undecided.any():
+                break
+        return allowed, threatened
+
+
+def hazard_windows(forecast: ObstacleForecast, positions: FloatArray, previous: FloatArray, robots: FloatArray,
+                   cells: IntArray, padded_blocked: BoolArray, pad: int, steps: int, radius: int, *,
+                   connectivity: int = 8, margin: int = 0) -> HazardWindows | None:
+    """:class:`HazardWindows` for the robots (at ``robots`` (n, 2), world units, in ``cells``
+    (n, 2)) that an obstacle (at ``positions``, one step earlier ``previous``) can reach within
+    ``steps`` steps plus ``radius`` cells; None when there is none. Each window holds the
+    cells within ``radius`` cells (Chebyshev) of its robot: what candidates (1 cell away) and
+    a ``radius``-step look-ahead read. ``padded_blocked`` is the static grid padded with
+    ``pad`` >= radius + 1 blocked cells on every side."""
+    if forecast.m == 0 or len(cells) == 0:
+        return None
+    from scipy.spatial import cKDTree
+
+    obstacles = np.asarray(positions, float).reshape(forecast.m, 2)
+    reach = forecast.influence(steps) + (radius + 1) * forecast.resolution
+    count = cKDTree(obstacles).query_ball_point(np.asarray(robots, float), reach, p=np.inf, return_length=True)
+    rows = np.flatnonzero(np.asarray(count) > 0)
+    if len(rows) == 0:
+        return None
+    size = 2 * radius + 1
+    origin = np.asarray(cells, np.int64)[rows] - radius
+    covered = forecast.windows(obstacles, previous, steps, origin, size, margin=margin)
+    off = np.arange(size + 2)
+    ys = origin[:, 1, None] - 1 + pad + off[None]
+    xs = origin[:, 0, None] - 1 + pad + off[None]
+    patches = padded_blocked[ys[:, :, None], xs[:, None, :]]
+    return HazardWindows(rows, origin, covered, window_moves(patches, connectivity))

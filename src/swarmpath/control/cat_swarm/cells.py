@@ -1,8 +1,9 @@
 """The grid a cat swarm controller works on, shared by ``cat-swarm`` and ``cat-swarm-paper``.
 
 - :func:`grid_cells`: the checks (robots move one cell per step and are points or small
-  discs), the static move table, one distance field per goal cell (eq. 12's path lengths),
-  and where each robot's exact goal lies in its cell;
+  discs), one distance field per goal cell (eq. 12's path lengths; ``cat-swarm-paper``; the
+  improved ``cat-swarm`` reads lazy per-goal tables instead and asks for no fields), and
+  where each robot's exact goal lies in its cell;
 - :meth:`GridCells.candidates`: where each of the 9 candidates of step 6.1-6.2 takes a robot
   and which are allowed statically and within its reach;
 - :class:`PathTracker`: each robot's place on its path (the offline plan as grid cells), the
@@ -42,18 +43,17 @@ FIELD_BYTES_FLOAT64 = 256 * 2 ** 20
 class GridCells:
     """The static part of a run on the grid (built by :func:`grid_cells` at reset).
 
-    grid : the occupancy grid (inflated by the largest robot radius); moves (height, width,
-    9) the static validity of the 9 moves from every cell; goal_cells (n, 2); fields (g,
-    height, width) the distance fields of the distinct goal cells, field_index (n,) each
-    robot's field; decimals: rounding of fitness values (fewer with float32 fields);
+    grid : the occupancy grid (inflated by the largest robot radius); goal_cells (n, 2);
+    fields (g, height, width) the distance fields of the distinct goal cells (None when not
+    asked for), field_index (n,) each robot's field; decimals: rounding of fitness values
+    (fewer with float32 fields);
     goal_off_centre (n,) whether the exact goal lies off its cell centre; goal_moves (n, 9)
     the moves a robot standing on its exact goal can make; reach (n,) max_speed * dt.
     """
 
     grid: OccupancyGrid
-    moves: BoolArray
     goal_cells: IntArray
-    fields: NDArray
+    fields: NDArray | None
     field_index: IntArray
     decimals: int
     goal_off_centre: BoolArray
@@ -72,17 +72,29 @@ class GridCells:
         cells = self.grid.cell_of(np.asarray(points, float).reshape(-1, 2))
         return np.clip(cells, 0, [w - 1, h - 1])
 
-    def candidates(self, pos: FloatArray, goals: FloatArray, cells: IntArray,
-                   copies: IntArray) -> tuple[FloatArray, BoolArray, BoolArray, BoolArray]:
+    def moves(self, cells: IntArray) -> BoolArray:
+        """The static validity (..., 9) of the 9 moves from ``cells`` (..., 2) (step 6.3's
+        "copies on static obstacles are deleted"; :func:`~.kernels.moves_at`)."""
+        return K.moves_at(self.grid.blocked, cells)
+
+    def candidates(self, pos: FloatArray, goals: FloatArray, cells: IntArray, copies: IntArray, *,
+                   centre_first: bool = False) -> tuple[FloatArray, BoolArray, BoolArray, BoolArray]:
         """Where each candidate takes the robot (n, 9, 2): a cell centre, the exact goal in the
-        goal cell; staying settles on the centre (or the goal) of the robot's own cell. Also
-        which candidates are the goal cell (n, 9), which are allowed statically (n, 9), and
-        which are allowed and within reach (n, 9; staying always is)."""
+        goal cell; staying settles on the centre (or the goal) of the robot's own cell. With
+        ``centre_first`` a move into the goal cell goes to the exact goal only when it is
+        within reach, else to the cell's centre (a goal on the cell's far corner, e.g. the
+        workspace's corner, is then reached in two steps instead of never). Also which
+        candidates are the goal cell (n, 9), which are allowed statically (n, 9), and which
+        are allowed and within reach (n, 9; staying always is)."""
         grid = self.grid
-        static_ok = self.moves[cells[:, 1], cells[:, 0]]
+        static_ok = self.moves(cells)
         targets = grid.centers(copies)
         in_goal_cell = np.all(copies == self.goal_cells[:, None, :], axis=2)
-        targets = np.where(in_goal_cell[..., None], goals[:, None, :], targets)
+        to_goal = in_goal_cell
+        if centre_first:
+            to_goal = in_goal_cell & (np.linalg.norm(goals - pos, axis=1)
+                                      <= self.reach * (1 + 1e-9) + 1e-12)[:, None]
+        targets = np.where(to_goal[..., None], goals[:, None, :], targets)
         targets[:, K.STAY] = np.where(in_goal_cell[:, K.STAY, None], goals, grid.centers(cells))
         in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach[:, None] * (1 + 1e-9) + 1e-12
         valid = static_ok & in_reach
@@ -90,35 +102,38 @@ class GridCells:
         return targets, in_goal_cell, static_ok, valid
 
 
-def grid_cells(world: World, owner: str) -> GridCells:
+def grid_cells(world: World, owner: str, *, fields: bool = True) -> GridCells:
     """Check that ``world`` suits a cell-to-cell controller called ``owner`` and build its
-    :class:`GridCells` (raises ConfigError naming the robot that does not fit)."""
+    :class:`GridCells` (raises ConfigError naming the robot that does not fit). ``fields``:
+    compute one distance field per goal cell (the whole map per goal); False leaves them to
+    the caller (lazy tables)."""
     n = world.n_robots
     reach = world.max_speeds * world.dt
     check_grid_robots(world, owner)
     grid = world.grid(radius=float(world.radii.max(initial=0.0)))
     blocked = grid.blocked
     height, width = blocked.shape
-    moves = K.move_table(blocked)
     goals = world.goals
     goal_cells = np.clip(grid.cell_of(np.asarray(goals, float).reshape(-1, 2)), 0, [width - 1, height - 1])
     # one distance field per goal cell (eq. 12 and the replanned paths)
     flat_goal = goal_cells[:, 1] * width + goal_cells[:, 0] if n else np.zeros(0, np.int64)
     unique, field_index = np.unique(flat_goal, return_inverse=True)
     big_fields = len(unique) * blocked.size * 8 > FIELD_BYTES_FLOAT64
-    fields = np.empty((len(unique), height, width), np.float32 if big_fields else np.float64)
-    for g, flat in enumerate(unique):
-        cell = (int(flat % width), int(flat // width))
-        fields[g] = distance_field(blocked, cell) if grid.is_free(np.asarray(cell)) else np.inf
+    table = None
+    if fields:
+        table = np.empty((len(unique), height, width), np.float32 if big_fields else np.float64)
+        for g, flat in enumerate(unique):
+            cell = (int(flat % width), int(flat // width))
+            table[g] = distance_field(blocked, cell) if grid.is_free(np.asarray(cell)) else np.inf
     # robots whose exact goal lies off its cell centre reach fewer cells from it
     goal_off_centre = np.linalg.norm(goals - grid.centers(goal_cells), axis=1) > 1e-9
     around = goal_cells[:, None, :] + K.OFFSETS[None]
     inside = grid.contains_cells(around)
     near = np.linalg.norm(grid.centers(around) - goals[:, None, :], axis=2) <= reach[:, None] * (1 + 1e-9)
-    goal_moves = inside & near & moves[goal_cells[:, 1], goal_cells[:, 0]] if n else np.zeros((0, 9), bool)
+    goal_moves = inside & near & K.moves_at(blocked, goal_cells) if n else np.zeros((0, 9), bool)
     goal_moves[:, K.STAY] = True
-    return GridCells(grid, moves, goal_cells, fields, field_index, 3 if big_fields else 6, goal_off_centre,
-                     goal_moves, reach)
+    return GridCells(grid, goal_cells, table, field_index, 3 if big_fields else 6, goal_off_centre, goal_moves,
+                     reach)
 
 
 @dataclass

@@ -1,20 +1,15 @@
-"""Deadlock handling for grid controllers: detect robots that stopped making progress and
-resolve it by priority, yielding and backing off.
+"""Robots that stopped making progress: detected, handed to the core's ranking, reported.
 
-The paper calls its cat swarm "deadlock free"; it is not in general (two robots head-on in a
-one-cell corridor wait for each other forever, and a robot parked on its goal in a corridor
-blocks everyone behind it). We therefore
+The paper calls its cat swarm "deadlock free"; with robots choosing one after the other it is
+not (two robots head-on in a one-cell corridor wait for each other forever). In ``cat-swarm``
+the PIBT core resolves conflicts (priority inheritance, backtracking, the swap emulation);
+this module only
 
-1. **detect**: a robot that is not at its goal and has not improved its best remaining
-   path length for ``patience`` steps is *stuck*;
-2. **resolve**: a stuck robot becomes *urgent* and stays urgent until it reaches its goal.
-   Urgent robots act before everyone else, the one stuck first going first (a fixed order,
-   so two urgent robots cannot keep undoing each other), and they may *push*: a robot in
-   the cell an urgent robot wants must yield — it moves to its own best free neighbour,
-   backing off if that is the only way, and may push in turn (priority inheritance, as in
-   PIBT, Okumura et al. 2022). Robots that are not urgent never push; they may only *ask*
-   a robot in their way to move first along its own preferred direction;
-3. **report**: a robot stuck for ``report_after`` steps gives a ``deadlock`` event, and a
+1. **detects**: a robot that is not at its goal and has not improved its best remaining
+   path length for ``patience`` steps is *stuck*, and stays *urgent* until it reaches its
+   goal: it then ranks its candidates by exact distance first (:mod:`.ranking`), the ranking
+   under which PIBT guarantees progress, instead of following the swarm's preference;
+2. **reports**: a robot stuck for ``report_after`` steps gives a ``deadlock`` event, and a
    ``deadlock_resolved`` event once it moves on. A deadlock that stays is visible in the
    trajectory (the robot never reaches its goal) and is never counted as success.
 """
@@ -41,19 +36,6 @@ def progress_update(best: FloatArray, since: IntArray, remaining: FloatArray, at
     best = np.where(at_goal, np.inf, np.where(improved, remaining, best))
     since = np.where(improved | at_goal, 0, since + 1)
     return best, since
-
-
-def priority_order(urgent_since: IntArray, danger: BoolArray, threatened: BoolArray, options: IntArray,
-                   active: BoolArray, remaining: FloatArray, tiebreak: FloatArray) -> IntArray:
-    """Robot indices from first to act to last: robots that must leave their cell before a
-    moving obstacle arrives, then robots that should (both with the fewest safe options
-    first), then urgent robots (stuck earliest first), then robots still travelling (longest
-    remaining path first, as the mixture split favours them), then parked robots;
-    ``tiebreak`` (random keys) orders the rest."""
-    rem = np.where(np.isfinite(remaining), remaining, -1.0)
-    level = np.where(danger, 0, np.where(threatened, 1, 2))
-    opts = np.where(level < 2, options, 0)
-    return np.lexsort((tiebreak, -rem, ~active, urgent_since, opts, level))
 
 
 @dataclass

@@ -95,6 +95,26 @@ def move_table(blocked: BoolArray) -> BoolArray:
     return out
 
 
+def moves_at(blocked: BoolArray, cells: IntArray) -> BoolArray:
+    """:func:`move_table` at given cells only, shape (..., 9) for ``cells`` (..., 2): the same
+    values without building the table of the whole grid (a robot needs its own 9 moves)."""
+    b = np.asarray(blocked, bool)
+    h, w = b.shape
+    c = np.asarray(cells, np.int64)
+
+    def free(x, y):
+        x, y = np.broadcast_arrays(x, y)
+        ok = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        out = np.zeros(ok.shape, bool)
+        out[ok] = ~b[y[ok], x[ok]]
+        return out
+
+    x, y = c[..., 0, None], c[..., 1, None]
+    dx, dy = OFFSETS[:, 0], OFFSETS[:, 1]
+    ok = free(x + dx, y + dy) & free(x, y)
+    return ok & (~DIAGONAL | (free(x + dx, y) & free(x, y + dy)))
+
+
 def fitness_eq12(fields: NDArray, field_index: IntArray, copies: IntArray) -> FloatArray:
     """Eq. 12: the fitness of a copy is the length of the path from the copy to its robot's
     goal. ``fields[g]`` (height, width) is the grid distance field of goal g (cells, octile,
@@ -146,82 +166,6 @@ def descent_step(copy_fitness: FloatArray, static_ok: BoolArray, tie: FloatArray
     best_cost = np.take_along_axis(cost, best[:, None], axis=1)[:, 0]
     stuck = ~valid[np.arange(len(copy_fitness)), best] | ~(best_cost < here + 1e-3) | (here <= 0)
     return np.where(stuck, STAY, best)
-
-
-def crowded(cells: IntArray, shape: tuple[int, int], reach: int = 2) -> BoolArray:
-    """Robots with another robot within ``reach`` cells (Chebyshev), shape (n,): only those
-    can compete for a cell or a crossing this step (both move one cell)."""
-    h, w = shape
-    occ = np.zeros((h + 2 * reach + 1, w + 2 * reach + 1), np.int32)
-    np.add.at(occ, (cells[:, 1] + reach + 1, cells[:, 0] + reach + 1), 1)
-    sat = occ.cumsum(0).cumsum(1)
-    x0, y0 = cells[:, 0] + 1, cells[:, 1] + 1
-    x1, y1 = x0 + 2 * reach + 1, y0 + 2 * reach + 1
-    count = sat[y1 - 1, x1 - 1] - sat[y0 - 1, x1 - 1] - sat[y1 - 1, x0 - 1] + sat[y0 - 1, x0 - 1]
-    return count > 1
-
-
-def safe_tier(covered: list[BoolArray], moves: BoolArray, depth: int) -> tuple[BoolArray, BoolArray]:
-    """Cells where a robot may end this step and still keep clear of every moving obstacle
-    for ``depth`` steps whatever the obstacles do, shape (height, width). ``covered`` =
-    [D_1, ..., D_K] are the cells obstacles may cover in each of the next K >= depth steps.
-    Backward induction: S_depth = not D_depth, S_k = not D_k and one allowed move away from
-    S_(k+1). Returns (S_1, S_2) (S_2: where the robot must be able to go next step; all True
-    for depth 1). Extends step 6.3's deletion (current and next positions of objects) with a
-    look-ahead."""
-    safe = ~covered[depth - 1]
-    after = np.ones_like(safe)
-    for k in range(depth - 1, 0, -1):
-        after = safe
-        safe = ~covered[k - 1] & escape_cells(~safe, moves)
-    return safe, after
-
-
-def warning_levels(covered: list[BoolArray], cells: IntArray, decay: float) -> FloatArray:
-    """A soft warning for ``cells`` (..., 2) in [0, 1]: decay ** (k - 1) when an obstacle may
-    cover a cell within one cell of it k steps from now (k = 1, 2, ...), the largest value
-    where several apply. Added (weighted) to eq. 12's fitness so that robots step out of an
-    obstacle's way early instead of being cornered (ours, not the paper's)."""
-    h, w = covered[0].shape
-    ring = cells[..., None, :] + OFFSETS
-    x = np.clip(ring[..., 0], 0, w - 1)
-    y = np.clip(ring[..., 1], 0, h - 1)
-    out = np.zeros(cells.shape[:-1])
-    for k in range(len(covered) - 1, -1, -1):
-        near = covered[k][y, x].any(axis=-1)
-        out = np.where(near, decay ** k, out)
-    return out
-
-
-def stay_depth(covered: list[BoolArray], shape: tuple[int, int] | None = None) -> NDArray[np.int64]:
-    """For every cell, for how many of the next K steps it stays clear of every obstacle
-    (0 ... K), shape (height, width): how long a robot could wait there. With K = 0 steps
-    (an empty list) every cell gets 0; ``shape`` gives the grid's shape then."""
-    if not covered:
-        if shape is None:
-            raise ValueError("stay_depth: give the grid's shape when there are no steps")
-        return np.zeros(shape, dtype=np.int64)
-    clear = np.ones(covered[0].shape, dtype=bool)
-    depth = np.zeros(covered[0].shape, dtype=np.int64)
-    for d in covered:
-        clear &= ~d
-        depth += clear
-    return depth
-
-
-def escape_cells(unsafe: BoolArray, moves: BoolArray) -> BoolArray:
-    """Cells with a way out (height, width): some allowed move (``moves`` from
-    :func:`move_table`, staying included) reaches a cell that is not ``unsafe``. A robot
-    that ends its step on such a cell can still get clear next step, wherever the obstacles
-    go (``unsafe`` = what they may cover the step after next). Part of our deletion rule
-    (step 6.3), which the paper states for the current and next positions only."""
-    h, w = unsafe.shape
-    pad = np.ones((h + 2, w + 2), dtype=bool)
-    pad[1:-1, 1:-1] = unsafe
-    out = np.zeros((h, w), dtype=bool)
-    for k, (dx, dy) in enumerate(OFFSETS):
-        out |= moves[..., k] & ~pad[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
-    return out
 
 
 def linear_next(previous: FloatArray, current: FloatArray) -> FloatArray:

@@ -21,9 +21,18 @@ the paper (``food="euclidean"``) or the grid distance field around the static ob
 The paper's behaviours are the pure functions of :mod:`.behaviours` (cells are integer (x, y)
 arrays, food values floats); :class:`FishSwarmController` wires them to the simulator: it finds the cells a
 robot may enter this step (static grid, no corner cutting, moving-obstacle footprints at their
-new positions, cells and moves already taken by other robots) and, for obstacles that travel
-(every model except ``redraw``), avoids ending next to one when it can, because the obstacle
-moves before the robot on the next step.
+new positions) and, for obstacles that travel (every model except ``redraw``), avoids ending
+next to one when it can, because the obstacle moves before the robot on the next step.
+
+Several robots: each robot's behaviour ranks its candidate moves (its behaviour's choice
+first, then the other cells it may enter by food, then waiting) and the PIBT core
+(:func:`swarmpath.control.pibt.core.pibt_step`) decides for all robots at once: no shared cell,
+no swap, no crossing, a robot in another's way pushed aside or passed by (the checker's own
+rule, :func:`swarmpath.world.move_rules.grid_conflict_table`); moves off cell centres and disc
+robots wider than half a cell are checked exactly
+(:func:`swarmpath.control.pibt.exact.hold_conflicts`). A robot sees only the robots within its
+visual range, so a step costs O(n). With one robot the core takes the behaviour's choice:
+Karim's single-robot results are unchanged.
 """
 from __future__ import annotations
 
@@ -49,15 +58,47 @@ from swarmpath.control.fish_swarm.behaviours import (
 )
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.observation import Observation
+from swarmpath.control.pibt.core import (
+    PUSHED,
+    STAY,
+    GridGraph,
+    decision_order,
+    pibt_step,
+    update_priorities,
+)
+from swarmpath.control.pibt.exact import hold_conflicts
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
 from swarmpath.search import DistanceFieldCache
 from swarmpath.world import geometry as g
-from swarmpath.world.move_rules import NO_CONFLICT, move_conflicts
+from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Rect
 from swarmpath.world.world import World
+
+#: Rank of a move the robot may not make (the core never looks at it).
+NOT_ALLOWED = 99.0
+#: Index into ``GRID_MOVES`` of the move (dx + 1, dy + 1).
+MOVE_INDEX = np.zeros((3, 3), np.int64)
+for _k, (_dx, _dy) in enumerate(GRID_MOVES.tolist()):
+    MOVE_INDEX[_dx + 1, _dy + 1] = _k
+
+
+class _CellIndex:
+    """The robots standing in each cell, to find a robot's neighbours in O(1)."""
+
+    def __init__(self, cells: IntArray):
+        self.by_cell: dict[tuple[int, int], list[int]] = {}
+        for k, (x, y) in enumerate(cells.tolist()):
+            self.by_cell.setdefault((x, y), []).append(k)
+
+    def around(self, cell, radius: int, skip: int) -> IntArray:
+        """Robots (sorted) in the cells within Chebyshev ``radius`` of ``cell``, but ``skip``."""
+        x0, y0 = int(cell[0]), int(cell[1])
+        out = [k for dy in range(-radius, radius + 1) for dx in range(-radius, radius + 1)
+               for k in self.by_cell.get((x0 + dx, y0 + dy), ()) if k != skip]
+        return np.array(sorted(out), np.int64)
 
 
 def _max_obstacle_step(world: World, ob: MovingObstacle) -> float:
@@ -127,6 +168,16 @@ class FishSwarmController(Controller):
                                       for ob in world.moving_obstacles], float).reshape(-1, 2)
         self.warned_ = set()
         self.radii_ = world.radii
+        # the PIBT core, for several robots: priorities from a child stream, so that the draws
+        # of the behaviours (one shuffle per robot and step) are those of a single robot's run
+        n = world.n_robots
+        grid = self.grids_[int(np.argmax(world.radii))] if n else world.grid()
+        self.graph_ = GridGraph.build(grid.blocked, 8, float(min(world.radii.max(initial=0.0), 0.5 * world.resolution)),
+                                      world.resolution)
+        cells = np.clip(grid.cell_of(world.goals), 0, [grid.width - 1, grid.height - 1]) if n else np.zeros((0, 2))
+        self.goal_flat_ = (cells[:, 1] * grid.width + cells[:, 0]).astype(np.int32)
+        self.base_ = rng.spawn(1)[0].random(n)
+        self.priority_ = self.base_.copy()
 
     def _food(self, i: int, cells: IntArray) -> FloatArray:
         grid = self.grids_[i]
@@ -138,42 +189,84 @@ class FishSwarmController(Controller):
     def act(self, obs: Observation) -> Decision:
         n = obs.positions.shape[0]
         pos = obs.positions
-        new = pos.copy()
-        modes = [WAIT] * n
-        events: list[dict] = []
-        decided = np.zeros(n, dtype=bool)
         obstacles = np.asarray(obs.obstacle_positions, float).reshape(-1, 2)
         n_fish = len(obstacles) + n - 1
+        rank = np.full((n, 9), NOT_ALLOWED)
+        allowed = np.zeros((n, 9), bool)
+        targets = np.repeat(pos[:, None, :], 9, axis=1)
+        food = np.full((n, 9), np.inf)
+        modes = [WAIT] * n
+        events: list[dict] = []
+        near = _CellIndex(self.grids_[0].cell_of(pos)) if n > 1 else None
         for i in range(n):
-            target, mode = self._decide(i, obs, new, decided, obstacles, n_fish, events)
-            new[i] = target
-            modes[i] = mode
-            decided[i] = True
+            modes[i] = self._rank(i, obs, obstacles, n_fish, near, rank[i], allowed[i], targets[i], food[i], events)
+        allowed[:, STAY] = True   # waiting is always possible
+        if n == 1:
+            choice = np.array([int(np.argmin(rank[0]))])
+            pushed = np.zeros(1, bool)
+        else:
+            self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
+            active = np.flatnonzero(~obs.at_goal)
+            if len(active):
+                # the robot of highest priority ranks by food first (its own cell included), the
+                # behaviour's order among equal food: PIBT's ranking, under which it surely
+                # progresses (with distance-field food), and the swap emulation can reverse it
+                lead = active[np.argmax(self.priority_[active])]
+                key = np.where(allowed[lead], np.round(food[lead], 9), np.inf)
+                order = np.lexsort((rank[lead], key))
+                rank[lead, order] = np.where(allowed[lead, order], np.arange(9, dtype=float), NOT_ALLOWED)
+            cells = self.grids_[0].cell_of(pos)
+            flat = (cells[:, 1] * self.graph_.width + cells[:, 0]).astype(np.int32)
+            res = pibt_step(self.graph_, flat, rank, allowed, np.zeros((n, 9)), decision_order(self.priority_),
+                            goals=self.goal_flat_, swap=True, yield_way=True)
+            choice = res.moves.astype(np.int64)
+            pushed = ((res.flags & PUSHED) != 0) & (choice != STAY)
+        new = targets[np.arange(n), choice]
+        if n > 1:
+            held = self._held(pos, new)
+            new[held] = pos[held]
+            choice[held] = STAY
+            for i in held:
+                events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
+            first = np.argmin(rank, axis=1)
+            for i in np.flatnonzero(choice != first):
+                modes[i] = "yield" if pushed[i] else (WAIT if choice[i] == STAY else PREY)
         return Decision(new, modes, tuple(events))
 
-    def _decide(self, i: int, obs, new: FloatArray, decided: NDArray[np.bool_], obstacles: FloatArray,
-                n_fish: int, events: list) -> tuple[FloatArray, str]:
+    def _rank(self, i: int, obs, obstacles: FloatArray, n_fish: int, near, rank: FloatArray, allowed,
+              targets: FloatArray, food9: FloatArray, events: list) -> str:
+        """Robot ``i``'s ranking of its 9 moves (``GRID_MOVES`` order, written into ``rank``,
+        ``allowed``, ``targets`` and their food into ``food9``; staying is index 0): the move
+        its behaviour picks first, then, for when the core needs it elsewhere, the other cells
+        it may enter (best food first) and waiting. Returns the behaviour (Algorithm 1)."""
         world = self.world_
         robot = world.robots[i]
         grid = self.grids_[i]
         p = obs.positions[i]
         goal = np.asarray(robot.goal, float)
-        if np.linalg.norm(p - goal) <= 1e-9:
-            return p.copy(), ARRIVED
         cell = grid.cell_of(p)
+        # only a robot with another robot within two cells can be asked to make way this step
+        several = near is not None and len(near.around(cell, 2, i)) > 0
         centre = grid.centers(cell)
-        if np.array_equal(cell, self.goal_cells_[i]):
-            moves = [goal]          # in the goal cell: step onto the exact goal point
-        elif np.linalg.norm(p - centre) > 1e-9:
-            moves = [centre]        # off a cell centre (start of the run): align first
-        else:
-            moves = None
-        if moves is not None:
-            ok, exposure = self._feasible(i, p, np.concatenate([np.asarray(moves, float), p[None]]), obs, new,
-                                          decided, obstacles)
-            if ok[0] and exposure[0] <= exposure[1]:
-                return np.asarray(moves[0], float), PREY
-            return p.copy(), WAIT
+        if several:
+            food9[STAY] = self._food(i, cell[None])[0]
+        if np.linalg.norm(p - goal) <= 1e-9:
+            rank[STAY] = 0.0
+            if several:   # parked: where it goes if another robot must pass
+                self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, food9, start=1.0)
+            return ARRIVED
+        if np.array_equal(cell, self.goal_cells_[i]) or np.linalg.norm(p - centre) > 1e-9:
+            # in the goal cell: step onto the exact goal point; off a cell centre (start of the
+            # run): align first
+            to = goal if np.array_equal(cell, self.goal_cells_[i]) else centre
+            ok, exposure = self._feasible(i, p, np.stack([to, p]), obstacles)
+            rank[STAY] = 0.0
+            go = bool(ok[0] and exposure[0] <= exposure[1])
+            if go:
+                targets[STAY] = to
+            if several:
+                self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, food9, start=1.0)
+            return PREY if go else WAIT
 
         if self.food == "distance-field" and not np.isfinite(self._food(i, cell[None])[0]) and i not in self.warned_:
             self.warned_.add(i)
@@ -188,37 +281,91 @@ class FishSwarmController(Controller):
         corner_b = grid.is_free(np.stack([np.full(len(cand), cell[0]), cand[:, 1]], axis=1))
         cand = cand[inside & (~diag | (corner_a & corner_b))]
         points = grid.centers(cand)
-        ok, exposure = self._feasible(i, p, np.concatenate([points, p[None]]), obs, new, decided, obstacles)
+        ok, exposure = self._feasible(i, p, np.concatenate([points, p[None]]), obstacles)
         ok, exposure, stay_exposure = ok[:-1], exposure[:-1], int(exposure[-1])
         # The least exposed of the allowed moves and staying: with redraw obstacles only, every
         # exposure is 0 and the pool is every allowed move (the paper); with travelling obstacles
         # the robot keeps out of their reach when it can, else takes the cells fewest can reach.
         least = min([stay_exposure, *exposure[ok].tolist()])
         pool = ok & (exposure == least)
+        slot = MOVE_INDEX[cand[:, 0] - cell[0] + 1, cand[:, 1] - cell[1] + 1]
+        targets[slot] = points
+        allowed[slot] = ok
+        food = self._food(i, cand)
+        food9[slot] = food
+        food9[STAY] = self._food(i, cell[None])[0]
+        # after the behaviour's choice: the other least exposed cells by food, waiting, the rest
+        order = np.lexsort((np.arange(len(cand)), food, exposure, ~pool))
+        rank[slot[order]] = 2.0 + np.arange(len(cand))
+        rank[STAY] = 1.5 + np.count_nonzero(pool)
         if not pool.any():
-            return p.copy(), WAIT
+            rank[STAY] = 0.0
+            return WAIT
         cand, points = cand[pool], points[pool]
 
         # The fish: the moving obstacles and the other robots (at their current cells).
-        others = np.delete(np.arange(len(obs.positions)), i)
+        others = near.around(cell, self.visual, i) if near is not None else np.zeros(0, np.int64)
         fish_pts = np.concatenate([obstacles, obs.positions[others]]).reshape(-1, 2)
         fish_cells = grid.cell_of(fish_pts)
         seen = visible_fish(cell, fish_cells, self.visual)
-        k, mode = fish_decision(cell, float(self._food(i, cell[None])[0]), cand, points, self._food(i, cand),
+        k, mode = fish_decision(cell, float(self._food(i, cell[None])[0]), cand, points, food[pool],
                                 fish_cells[seen], grid.centers(fish_cells[seen]), self._food(i, fish_cells[seen]),
                                 n_fish=n_fish, w=self.w, delta=self.delta)
         if k is None:
-            return p.copy(), WAIT
-        return points[k].copy(), mode
+            rank[STAY] = 0.0
+            return WAIT
+        rank[slot[np.flatnonzero(pool)[k]]] = 0.0
+        return mode
 
-    def _feasible(self, i: int, p: FloatArray, targets: FloatArray, obs, new: FloatArray,
-                  decided: NDArray[np.bool_], obstacles: FloatArray) -> tuple[NDArray[np.bool_], IntArray]:
+    def _fallback(self, i: int, p: FloatArray, cell, obs, obstacles: FloatArray, rank: FloatArray, allowed,
+                  targets: FloatArray, food9: FloatArray, start: float) -> None:
+        """Where robot ``i`` goes when another robot needs its cell: the neighbour centres it
+        may enter and reach this step, least exposed first, then by food (fixed order; no
+        random draw, so a robot that is never pushed draws nothing)."""
+        grid = self.grids_[i]
+        moves = GRID_MOVES[1:]
+        cand = cell[None] + moves
+        inside = grid.is_free(cand)
+        diag = np.all(moves != 0, axis=1)
+        corner_a = grid.is_free(np.stack([cand[:, 0], np.full(len(cand), cell[1])], axis=1))
+        corner_b = grid.is_free(np.stack([np.full(len(cand), cell[0]), cand[:, 1]], axis=1))
+        points = grid.centers(cand)
+        reach = float(self.world_.robots[i].max_speed * self.world_.dt) * (1 + 1e-9) + 1e-12
+        ok = inside & (~diag | (corner_a & corner_b)) & (np.linalg.norm(points - p, axis=1) <= reach)
+        idx = np.flatnonzero(ok)
+        if len(idx) == 0:
+            return
+        feasible, exposure = self._feasible(i, p, points[idx], obstacles)
+        idx, exposure = idx[feasible], exposure[feasible]
+        food = self._food(i, cand[idx])
+        order = np.lexsort((food, exposure))
+        slots = 1 + idx[order]
+        food9[slots] = food[order]
+        targets[slots] = points[idx[order]]
+        allowed[slots] = True
+        rank[slots] = start + 1.0 + np.arange(len(slots))
+
+    def _held(self, pos: FloatArray, new: FloatArray) -> list[int]:
+        """Robots to hold in place after the exact check: moves that start or end off a cell
+        centre, and every move when a robot is wider than half a cell (the core's table
+        covers centre-to-centre moves of discs up to half a cell)."""
+        grid = self.grids_[0]
+        res = grid.resolution
+        wide = bool(np.any(self.radii_ > 0.5 * res + 1e-12))
+        moving = np.any(new != pos, axis=1)
+        odd = (np.linalg.norm(pos - grid.centers(grid.cell_of(pos)), axis=1) > 1e-9) | \
+            (np.linalg.norm(new - grid.centers(grid.cell_of(new)), axis=1) > 1e-9)
+        check = np.flatnonzero(moving & (odd | wide))
+        reach = 3 * res + 2 * float(self.radii_.max(initial=0.0))
+        return hold_conflicts(pos, new, self.radii_, res, check, reach)
+
+    def _feasible(self, i: int, p: FloatArray, targets: FloatArray, obstacles: FloatArray
+                  ) -> tuple[NDArray[np.bool_], IntArray]:
         """For moves of robot ``i`` from ``p`` to each of ``targets`` (k, 2): whether the move is
-        allowed now (enters no obstacle footprint at its new position and meets no other
-        robot's decided move or current position) and its exposure, the number of travelling
-        (non-``redraw``) obstacles whose next move can reach the end point (0 = safe)."""
-        world = self.world_
-        r = world.robots[i].radius
+        allowed now (enters no obstacle footprint at its new position) and its exposure, the
+        number of travelling (non-``redraw``) obstacles whose next move can reach the end point
+        (0 = safe). Other robots are the core's business."""
+        r = self.world_.robots[i].radius
         k = len(targets)
         a = np.broadcast_to(p, (k, 2))
         ok = np.ones(k, dtype=bool)
@@ -232,10 +379,6 @@ class FishSwarmController(Controller):
                 ok &= ~hit.any(axis=1)
                 if self.avoid_next:
                     exposure += np.count_nonzero(dist < self.obstacle_reach_[near][None, :] + r - g.EPS, axis=1)
-        # Other robots: no shared end cell, no swap, no crossing (decided robots by their chosen
-        # move; undecided ones stand still and keep their cell).
-        if len(new) > 1:
-            ok &= self._robot_moves_ok(i, p, targets, obs.positions, new, decided)
         return ok, exposure
 
     def _footprint_tests(self, near: IntArray, obstacles: FloatArray, a: FloatArray, b: FloatArray,
@@ -264,18 +407,6 @@ class FishSwarmController(Controller):
                 dist[:, col] = shape.signed_distance(b)
         dist[:, self.obstacle_reach_[near] <= 0] = np.inf
         return hit, dist
-
-    def _robot_moves_ok(self, i: int, p: FloatArray, targets: FloatArray, current: FloatArray, new: FloatArray,
-                        decided: NDArray[np.bool_]) -> NDArray[np.bool_]:
-        """Moves of robot ``i`` (``p`` -> each target, (k, 2)) that no other robot's move
-        meets, by the checker's move rules; robots still to decide stand still."""
-        world = self.world_
-        others = np.flatnonzero(np.arange(len(new)) != i)
-        q0 = current[others]
-        q1 = np.where(decided[others, None], new[others], q0)
-        kinds = move_conflicts(p[None, None, :], targets[:, None, :], q0[None], q1[None], world.robots[i].radius,
-                               self.radii_[others][None], world.resolution)
-        return ~np.any(kinds != NO_CONFLICT, axis=1)
 
     def __repr__(self) -> str:
         return (f"FishSwarmController(visual={self.visual}, w={self.w}, delta={self.delta}, food={self.food!r}, "

@@ -75,12 +75,19 @@ def update_priorities(priority: FloatArray, at_goal: BoolArray, base: FloatArray
     return np.where(at_goal, base, priority + 1.0)
 
 
-def decision_order(priority: FloatArray, urgent: BoolArray | None = None) -> NDArray[np.int32]:
+def decision_order(priority: FloatArray, urgent: BoolArray | None = None,
+                   options: NDArray[np.int64] | None = None) -> NDArray[np.int32]:
     """Robots in decreasing priority (ties by index); ``urgent`` robots (standing where a
-    moving obstacle may be next step) decide before all others."""
+    moving obstacle may be next step, or that must leave to stay clear of one) decide before
+    all others, and with ``options`` (n,) (how many candidates each robot has left) the most
+    constrained urgent robot first: a robot with one way out takes it before a robot with
+    two takes that cell from it."""
     if urgent is None:
         return np.argsort(-priority, kind="stable").astype(np.int32)
-    return np.lexsort((-priority, ~np.asarray(urgent, bool))).astype(np.int32)
+    urgent = np.asarray(urgent, bool)
+    if options is None:
+        return np.lexsort((-priority, ~urgent)).astype(np.int32)
+    return np.lexsort((-priority, np.where(urgent, options, 0), ~urgent)).astype(np.int32)
 
 
 def conflict_table(radius: float, resolution: float) -> NDArray[np.uint8]:
@@ -116,7 +123,7 @@ class GridGraph:
     table: NDArray[np.uint8]
 
     @classmethod
-    def build(cls, blocked: NDArray[np.bool_], connectivity: int, radius: float, resolution: float) -> "GridGraph":
+    def build(cls, blocked: NDArray[np.bool_], connectivity: int, radius: float, resolution: float) -> GridGraph:
         return cls(np.ascontiguousarray(blocked, np.uint8), connectivity, conflict_table(radius, resolution))
 
     @property
@@ -181,3 +188,42 @@ def pibt_step(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allo
         np.ascontiguousarray(goals, np.int32), np.ascontiguousarray(slots, np.int64), tables, bool(swap),
         bool(yield_way), moves, flags)
     return StepResult(moves, flags, bool(ok), int(bad), int(calls), int(swaps))
+
+
+def pibt_step_escaping(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allowed: BoolArray,
+                       tie: FloatArray, order: NDArray[np.int32], *, danger: BoolArray, rounds: int = 3,
+                       **kwargs) -> StepResult:
+    """:func:`pibt_step`, retried when a robot that must leave its cell (its stay is not
+    allowed: a moving obstacle may reach it) could not: the robots that failed decide first
+    in the next try, up to ``rounds`` tries; the try with the fewest robots left in
+    ``danger`` (n,), then the fewest others that had to leave, wins (the first on ties).
+
+    PIBT decides greedily in priority order, so a robot with two ways out may take the one
+    a neighbour needed, or cross its diagonal; letting the robot that was left without a way
+    out choose first resolves such pairs. Without moving obstacles every stay is allowed and
+    this is one :func:`pibt_step`."""
+    res = pibt_step(graph, cells, dist, allowed, tie, order, **kwargs)
+    must = ~np.asarray(allowed, bool)[:, STAY]
+    danger = np.asarray(danger, bool)
+
+    def failed(r: StepResult) -> NDArray[np.bool_]:
+        return must & (r.moves == STAY)
+
+    def cost(r: StepResult) -> tuple[int, int]:
+        f = failed(r)
+        return int(np.sum(f & danger)), int(np.sum(f))
+
+    best, best_cost = res, cost(res)
+    o = np.asarray(order, np.int32)
+    for _ in range(rounds):
+        stuck = failed(best)
+        if not stuck.any():
+            break
+        front = o[stuck[o]]
+        front = np.concatenate([front[danger[front]], front[~danger[front]]])
+        o = np.concatenate([front, o[~stuck[o]]]).astype(np.int32)
+        r = pibt_step(graph, cells, dist, allowed, tie, o, **kwargs)
+        c = cost(r)
+        if c < best_cost:
+            best, best_cost = r, c
+    return best

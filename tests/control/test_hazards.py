@@ -1,0 +1,112 @@
+"""The moving-obstacle look-ahead on windows (control/hazards.py): the windows hold exactly the
+whole-grid cell sets, and the tiers computed on them are the whole-grid backward induction, so
+a controller's per-step cost follows the robots near obstacles, not the map."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmpath.control import hazards as H
+from swarmpath.control.cat_swarm import kernels as K
+from swarmpath.control.pibt.core import static_moves
+from swarmpath.world import Circle, Rect, RectBounds, Robot, StaticMap, World
+from swarmpath.world.moving import Bounce, Bounce8, MovingObstacle, RandomWalk, Redraw, TurnEvery
+
+S2 = float(np.sqrt(2))
+
+
+def world_with_obstacles(seed: int, size: int = 24):
+    rng = np.random.default_rng(seed)
+    blocked = rng.random((size, size)) < 0.12
+    motions = [Bounce(), Bounce8(), RandomWalk(), TurnEvery(3), Redraw()]
+    free = np.argwhere(~blocked)[:, ::-1]
+    obstacles = []
+    for j, c in enumerate(free[rng.choice(len(free), 8, replace=False)]):
+        shape = Rect((-0.4, -0.4), (0.4, 0.4)) if j % 2 else Circle((0, 0), 0.45)
+        heading = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][j % 4]
+        obstacles.append(MovingObstacle(f"m{j}", shape, tuple(c + 0.5), heading, motions[j % len(motions)]))
+    robots = (Robot("a", tuple(free[0] + 0.5), tuple(free[-1] + 0.5), 0.0, S2),)
+    world = World(RectBounds(size, size), static_map=StaticMap(blocked), moving_obstacles=tuple(obstacles),
+                  robots=robots, name=f"hz{seed}")
+    now = np.array([o.start for o in obstacles], float)
+    previous = now - np.array([o.velocity for o in obstacles], float) * rng.uniform(0, 1, (len(obstacles), 1))
+    return world, now, previous, rng
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_windows_hold_exactly_the_whole_grid_sets(seed):
+    world, now, previous, rng = world_with_obstacles(seed)
+    fc = H.ObstacleForecast(world, world.grid())
+    full = fc.coverage(now, previous, 4, margin=seed % 2)
+    size = 7
+    origins = rng.integers(-4, 22, size=(30, 2))
+    win = fc.windows(now, previous, 4, origins, size, margin=seed % 2)
+    h, w = full[0].shape
+    for k in range(4):
+        for r, (ox, oy) in enumerate(origins.tolist()):
+            for dy in range(size):
+                for dx in range(size):
+                    x, y = ox + dx, oy + dy
+                    expected = bool(full[k][y, x]) if 0 <= x < w and 0 <= y < h else False
+                    assert win[k, r, dy, dx] == expected
+
+
+def test_window_moves_are_the_static_moves():
+    rng = np.random.default_rng(1)
+    blocked = rng.random((9, 11)) < 0.3
+    padded = np.pad(blocked, 1, constant_values=True)
+    for connectivity in (4, 8):
+        assert np.array_equal(H.window_moves(padded, connectivity), static_moves(blocked, connectivity))
+    assert np.array_equal(H.window_moves(padded), K.move_table(blocked))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_tiers_on_windows_are_the_whole_grid_cascade(seed):
+    """The cascade of HazardWindows.tiers equals the same backward induction on the whole
+    grid (what the controllers computed before the windows)."""
+    world, now, previous, rng = world_with_obstacles(seed)
+    grid = world.grid()
+    fc = H.ObstacleForecast(world, grid)
+    depth = 4
+    full = fc.coverage(now, previous, depth)
+    moves = K.move_table(grid.blocked)
+    free = np.argwhere(~grid.blocked)[:, ::-1]
+    cells = free[rng.choice(len(free), 25, replace=False)]
+    pad = depth + 2
+    hz = H.hazard_windows(fc, now, previous, cells + 0.5, cells, np.pad(grid.blocked, pad, constant_values=True),
+                          pad, depth, depth)
+    assert hz is not None
+    r = hz.rows
+    dest = cells[r, None, :] + K.OFFSETS[None]
+    h, w = grid.blocked.shape
+    xs, ys = np.clip(dest[..., 0], 0, w - 1), np.clip(dest[..., 1], 0, h - 1)
+    allowed = K.moves_at(grid.blocked, cells[r]) & ~full[0][ys, xs]
+    got, threatened = hz.tiers(allowed, dest, depth)
+    # the whole-grid reference
+    expected = allowed.copy()
+    expected_threat = np.zeros(len(r), bool)
+    undecided = np.ones(len(r), bool)
+    for d in range(depth, 1, -1):
+        tier, _ = H.safe_tier(full, moves, d)
+        strict = allowed & tier[ys, xs]
+        usable = strict.any(axis=1) & undecided
+        expected = np.where(usable[:, None], strict, expected)
+        expected_threat |= usable & ~strict[:, 0]
+        undecided &= ~usable
+    assert np.array_equal(got, expected)
+    assert np.array_equal(threatened, expected_threat)
+    assert (allowed & ~got).any()   # the look-ahead really cut candidates here
+
+
+def test_only_robots_an_obstacle_can_reach_get_a_window():
+    world, now, previous, _ = world_with_obstacles(0, size=60)
+    grid = world.grid()
+    fc = H.ObstacleForecast(world, grid)
+    free = np.argwhere(~grid.blocked)[:, ::-1]
+    cells = free[::37]
+    hz = H.hazard_windows(fc, now, previous, cells + 0.5, cells, np.pad(grid.blocked, 7, constant_values=True), 7,
+                          5, 5)
+    reach = fc.influence(5) + 6 * grid.resolution
+    near = np.array([np.min(np.max(np.abs(now - (c + 0.5)), axis=1)) <= reach for c in cells])
+    assert hz is not None and np.array_equal(np.sort(hz.rows), np.flatnonzero(near))
+    assert hz.covered.shape == (5, len(hz.rows), 11, 11)   # windows, never the 60 x 60 grid
