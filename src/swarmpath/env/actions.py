@@ -74,7 +74,7 @@ class GridActions:
         goals = self.goals if rows is None else self.goals[rows]
         dest = (self.cells(pos) if cells is None else cells) + self.moves[actions]
         targets = self.grid.centers(dest)
-        to_goal = np.all(dest == goal_cells, axis=1)
+        to_goal = np.all(dest == goal_cells, axis=1) & self._goal_in_reach(pos, goals, rows)
         return np.where(to_goal[:, None], goals, targets)
 
     def targets(self, pos: FloatArray, rows: IntArray | None = None, cells: IntArray | None = None) -> FloatArray:
@@ -84,8 +84,15 @@ class GridActions:
         goals = self.goals if rows is None else self.goals[rows]
         dest = (self.cells(pos) if cells is None else cells)[:, None, :] + self.moves[None]
         targets = self.grid.centers(dest)
-        to_goal = np.all(dest == goal_cells[:, None, :], axis=2)
+        to_goal = np.all(dest == goal_cells[:, None, :], axis=2) & self._goal_in_reach(pos, goals, rows)[:, None]
         return np.where(to_goal[..., None], goals[:, None, :], targets)
+
+    def _goal_in_reach(self, pos: FloatArray, goals: FloatArray, rows: IntArray | None) -> NDArray[np.bool_]:
+        """A move into the goal cell lands on the exact goal only when the goal is in reach;
+        otherwise on the cell's centre first (a goal on a far corner), as the grid controllers do."""
+        reach = self.reach if rows is None else self.reach[rows]
+        gap = np.linalg.norm(np.asarray(goals, float) - np.asarray(pos, float).reshape(-1, 2), axis=1)
+        return gap <= reach * (1 + LENGTH_TOLERANCE) + 1e-12
 
     def mask(self, pos: FloatArray, cells: IntArray | None = None) -> NDArray[np.bool_]:
         """Actions (n, n_actions) that pass the static grid (free target cell inside the grid,
