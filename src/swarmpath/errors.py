@@ -10,28 +10,25 @@ class SwarmpathError(Exception):
     """Base class of every error swarmpath raises on purpose (bad input, unknown names)."""
 
 
-class ScenarioError(SwarmpathError):
-    """A scenario (file or in-memory description) is malformed or inconsistent.
-
-    ``field`` is the dotted path of the offending field (``robots[3].start``), ``source`` the
-    file it came from (if any); the message reads ``source: field: problem``.
-    """
+class _Located(Exception):
+    """An error in an input document: ``problem`` at the dotted ``field`` (``robots[3].start``)
+    of ``source`` (a file name, if any); the message reads ``source: field: problem``."""
 
     def __init__(self, problem: str, *, field: str | None = None, source: str | None = None):
         self.problem = problem
         self.field = field
         self.source = source
-        super().__init__(self._compose())
+        super().__init__(": ".join([p for p in (source, field) if p] + [problem]))
 
-    def _compose(self) -> str:
-        parts = [p for p in (self.source, self.field) if p]
-        return ": ".join([*parts, self.problem])
-
-    def with_source(self, source: str) -> "ScenarioError":
+    def with_source(self, source: str):
         """The same error, attributed to ``source`` (a file name) unless it already is."""
         if self.source:
             return self
         return type(self)(self.problem, field=self.field, source=source)
+
+
+class ScenarioError(_Located, SwarmpathError):
+    """A scenario (file or in-memory description) is malformed or inconsistent."""
 
 
 class MapFormatError(SwarmpathError):
@@ -44,3 +41,7 @@ class UnknownNameError(SwarmpathError):
 
 class ConfigError(SwarmpathError):
     """Parameters of an algorithm or a command are invalid (e.g. a negative budget)."""
+
+
+class SuiteError(_Located, ConfigError):
+    """A sweep suite file is malformed or names something that does not exist."""

@@ -17,7 +17,8 @@ from pydantic import BaseModel, ConfigDict, Field, Strict, ValidationError, crea
 from swarmpath.errors import MapFormatError, ScenarioError
 from swarmpath.world import limits
 from swarmpath.world.fields import Name, NonNegativeFloat, PositiveFloat, Vec2
-from swarmpath.world.limits import DocumentError, preview
+from swarmpath.world.limits import DocumentError
+from swarmpath.world.model_errors import first_error, located_errors
 
 
 class _Strict(BaseModel):
@@ -156,39 +157,13 @@ def scenario_json_schema() -> dict[str, Any]:
 _UNION_TAGS = {"circle", "rectangle", "polygon"}
 
 
-def _field_path(loc: tuple[Any, ...]) -> str:
-    out = ""
-    prev: Any = None
-    for part in loc:
-        if isinstance(part, int):
-            out += f"[{part}]"
-        elif part in _UNION_TAGS and (isinstance(prev, int) or prev in ("bounds", "shape")):
-            pass  # pydantic adds the union tag to the location; users never wrote it
-        else:
-            out += f".{part}" if out else str(part)
-        prev = part
-    return out or "(top level)"
-
-
-def _describe(err: dict[str, Any]) -> str:
-    kind = err["type"]
-    if kind == "extra_forbidden":
-        return "unknown field (check the spelling; see docs/scenarios.md)"
-    if kind == "missing":
-        return "required field is missing"
-    if kind == "literal_error" and err["loc"] and err["loc"][-1] == "schema_version":
-        return f"must be 1, got {err.get('input')!r}"
-    msg = err["msg"]
-    if "input" in err and kind not in ("union_tag_invalid",):
-        msg += f" (got {preview(err['input'])})"
-    return msg
+def _union_tag(part: Any, prev: Any) -> bool:
+    """pydantic adds the union tag to an error's location; users never wrote it."""
+    return part in _UNION_TAGS and (isinstance(prev, int) or prev in ("bounds", "shape"))
 
 
 def _first_error(exc: ValidationError) -> ScenarioError:
-    errors = exc.errors()
-    e = errors[0]
-    more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
-    return ScenarioError(_describe(e) + more, field=_field_path(tuple(e["loc"])))
+    return first_error(exc, ScenarioError, "docs/scenarios.md", _union_tag)
 
 
 def scenario_problems(doc: Any) -> list[ScenarioError]:
@@ -196,7 +171,7 @@ def scenario_problems(doc: Any) -> list[ScenarioError]:
     try:
         ScenarioModel.model_validate(doc)
     except ValidationError as exc:
-        return [ScenarioError(_describe(e), field=_field_path(tuple(e["loc"]))) for e in exc.errors()]
+        return located_errors(exc, ScenarioError, "docs/scenarios.md", _union_tag)
     return []
 
 
@@ -324,7 +299,8 @@ def builtin_scenarios() -> dict[str, str]:
     return out
 
 
-def _builtin_path(name: str) -> Path | None:
+def builtin_scenario_path(name: str) -> Path | None:
+    """The file of the built-in scenario ``name``, or None."""
     for ext in (".yaml", ".json"):
         entry = resources.files("swarmpath.data.scenarios").joinpath(name + ext)
         if entry.is_file():
@@ -336,7 +312,7 @@ def load_scenario(name_or_path: str | Path):
     """The World of a scenario file, or of a built-in scenario given by name."""
     p = Path(name_or_path)
     if not p.is_file():
-        builtin = _builtin_path(str(name_or_path))
+        builtin = builtin_scenario_path(str(name_or_path))
         if builtin is None:
             known = ", ".join(builtin_scenarios())
             raise ScenarioError(f"no such file, and no built-in scenario of that name (built-in: {known})",

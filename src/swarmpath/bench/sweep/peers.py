@@ -14,6 +14,7 @@ out of its reach (None when it is not), ``solve`` returns the positions and timi
 """
 from __future__ import annotations
 
+import abc
 import importlib.util
 import time
 from importlib import metadata
@@ -29,7 +30,7 @@ from swarmpath.errors import ConfigError
 SNAP = 1e-5
 
 
-class Peer:
+class Peer(abc.ABC):
     """Base of the adapters: the package it needs and what it reports about itself."""
 
     package = ""        # import name
@@ -53,11 +54,13 @@ class Peer:
         except metadata.PackageNotFoundError:
             return ""
 
-    def supports(self, world: Any) -> str | None:  # pragma: no cover - every adapter overrides
-        raise NotImplementedError
+    @abc.abstractmethod
+    def supports(self, world: Any) -> str | None:
+        """None when the peer can run ``world``, else why not (the job is skipped)."""
 
+    @abc.abstractmethod
     def solve(self, world: Any, *, seed: int, max_steps: int, time_limit: float) -> tuple[np.ndarray, dict[str, float]]:
-        raise NotImplementedError  # pragma: no cover
+        """Positions (steps + 1, n, 2) of the peer's run of ``world`` and its timings."""
 
 
 class _PymapfPeer(Peer):
@@ -86,8 +89,9 @@ class _PymapfPeer(Peer):
                 return f"{self.label} needs every start and goal on a free cell of the grid"
         return None
 
-    def _solver(self, seed: int, max_steps: int, time_limit: float):  # pragma: no cover - subclasses
-        raise NotImplementedError
+    @abc.abstractmethod
+    def _solver(self, seed: int, max_steps: int, time_limit: float):
+        """The pymapf solver object for one run."""
 
     def solve(self, world: Any, *, seed: int, max_steps: int, time_limit: float) -> tuple[np.ndarray, dict[str, float]]:
         from pymapf.core.grid import GridMap

@@ -21,9 +21,10 @@ from typing import Annotated, Any, Literal, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Strict, Tag, ValidationError
 
-from swarmpath.errors import ConfigError, SwarmpathError
+from swarmpath.errors import SuiteError, SwarmpathError
 from swarmpath.world import limits
 from swarmpath.world.limits import DocumentError, preview
+from swarmpath.world.model_errors import first_error
 
 #: Most jobs one suite may expand to (a typo such as ``count: 1000000`` is refused, not run).
 MAX_JOBS = 1_000_000
@@ -36,19 +37,6 @@ MAX_SUITE_BYTES = 4 * 2**20
 
 #: Motion kinds the obstacle generator knows (swarmpath.world.generators.with_obstacles).
 OBSTACLE_MOTIONS = ("bounce", "random-walk", "redraw", "turn-every", "waypoints")
-
-
-class SuiteError(ConfigError):
-    """A suite file is malformed or names something that does not exist. The message reads
-    ``source: field: problem``."""
-
-    def __init__(self, problem: str, *, field: str | None = None, source: str | None = None):
-        self.problem, self.field, self.source = problem, field, source
-        super().__init__(": ".join([p for p in (source, field) if p] + [problem]))
-
-    def with_source(self, source: str) -> "SuiteError":
-        """The same error attributed to ``source`` unless it already names a file."""
-        return self if self.source else SuiteError(self.problem, field=self.field, source=source)
 
 
 # ------------------------------------------------------------------ field types
@@ -189,35 +177,13 @@ def suite_json_schema() -> dict[str, Any]:
 _TAGS = {"plain", "mapping"}
 
 
-def _field_path(loc: tuple[Any, ...]) -> str:
-    out = ""
-    for part in loc:
-        if part in _TAGS or (isinstance(part, str) and part.startswith(("list[", "literal[", "function-"))):
-            continue   # pydantic's names of union members; users never wrote them
-        if isinstance(part, int):
-            out += f"[{part}]"
-        else:
-            out += f".{part}" if out else str(part)
-    return out or "(top level)"
-
-
-def _describe(err: dict[str, Any]) -> str:
-    kind = err["type"]
-    if kind == "extra_forbidden":
-        return "unknown field (check the spelling; see docs/bench.md)"
-    if kind == "missing":
-        return "required field is missing"
-    msg = err["msg"]
-    if "input" in err and not isinstance(err["input"], dict):
-        msg += f" (got {preview(err['input'])})"
-    return msg
+def _union_member(part: Any, prev: Any) -> bool:
+    """pydantic's names of union members in an error's location; users never wrote them."""
+    return part in _TAGS or (isinstance(part, str) and part.startswith(("list[", "literal[", "function-")))
 
 
 def _first_error(exc: ValidationError) -> SuiteError:
-    errors = exc.errors()
-    e = errors[0]
-    more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
-    return SuiteError(_describe(e) + more, field=_field_path(tuple(e["loc"])))
+    return first_error(exc, SuiteError, "docs/bench.md", _union_member)
 
 
 # ------------------------------------------------------------------ the loaded suite

@@ -62,6 +62,12 @@ def _file_hash(path: Path, what: str) -> str:
     return hashlib.sha256(data.encode("latin-1")).hexdigest()
 
 
+def _builtin(name: str) -> Path | None:
+    from swarmpath.world.scenario import builtin_scenario_path
+
+    return builtin_scenario_path(name)
+
+
 def _scenario_file_identity(path: Path) -> str:
     """The hash of a scenario file and of the map file it refers to (both decide the world)."""
     from swarmpath.world.movingai import resolve_movingai
@@ -119,17 +125,6 @@ def _obstacle_settings(entry: ScenarioEntryModel | None) -> list[dict[str, Any] 
     return unique
 
 
-def _builtin_path(name: str) -> Path | None:
-    """The file of a built-in scenario, or None."""
-    from importlib import resources
-
-    for ext in (".yaml", ".json"):
-        entry = resources.files("swarmpath.data.scenarios").joinpath(name + ext)
-        if entry.is_file():
-            return Path(str(entry))
-    return None
-
-
 def instances(suite: Suite) -> list[Instance]:
     """Every world of the suite, in the suite's order (files checked and hashed here)."""
     from swarmpath.world.movingai import read_map, read_scen
@@ -146,7 +141,7 @@ def instances(suite: Suite) -> list[Instance]:
             if entry is None or entry.scenario is not None:
                 text = item if entry is None else entry.scenario
                 path = _resolve(suite.base_dir, text)
-                builtin = None if path.is_file() else _builtin_path(text)
+                builtin = None if path.is_file() else _builtin(text)
                 if path.is_file():
                     label = entry.name if entry is not None and entry.name else path.stem
                     bases.append((label, {"kind": "file", "path": str(path)},
