@@ -158,10 +158,10 @@ name: timeouts
 scenarios:
   - scenario: karim2014
     controllers: [fish-swarm, pibt]
-  - map: empty-8-8.map
-    scen: empty-8-8-even-10.scen
-    agents: [8]
-    methods: [{controller: pibt}, {controller: pso-predictive}]   # the PSO takes half a minute here
+  - map: den312d.map
+    scen: den312d-even-10.scen
+    agents: [60]
+    methods: [{controller: pibt}, {controller: pso-predictive}]   # the PSO takes about a minute here
 max_steps: 400
 timeout_s: 3
 """
