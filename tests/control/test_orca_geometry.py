@@ -204,6 +204,26 @@ def test_worst_case_next_move_per_motion_model():
     assert _worst_case_next(ob, w, np.array([6.75, 5.0]), np.array([6.25, 5.0]), 1, 1.0)[1] == 0.5  # corner
 
 
+def test_worst_case_reads_the_motion_registry():
+    """A model the forecast does not know as straight (orbit: it turns every step) keeps its
+    whole declared reach clear, even when its last move happened to be one full step."""
+    from swarmpath.world.motions.orbit import Orbit
+
+    w = walled(Orbit((5.0, 5.0)), start=(7.0, 5.0), velocity=(0.0, 0.5))
+    ob = w.moving_obstacles[0]
+    now, prev = np.array([7.0, 5.0]), np.array([7.0, 4.5])
+    nxt, reach = _worst_case_next(ob, w, now, prev, 1, 1.0)
+    assert np.array_equal(nxt, now) and reach == pytest.approx(ob.max_step(1.0, w.resolution))
+
+
+def test_uniform_redraw_has_no_guard():
+    """The paper's uniform redraw may land on the robot's own cell: no end is safer, so the
+    guard leaves it out (the hits are counted by the checker, not avoided)."""
+    guard = RedrawGuard(walled(Redraw(avoid_robots=False)))
+    assert guard.fits == {}
+    assert not guard.danger(np.array([[4.0, 3.5]]), np.array([0.3])).any()
+
+
 def test_forecast_marks_redraw_as_jumping():
     w = walled(Redraw())
     fc = forecast_obstacles(w, np.array([[5.5, 5.5]]), np.array([[2.5, 2.5]]), 1, 1.0)

@@ -33,7 +33,12 @@ from swarmpath.control.orca.halfplanes import (
     halfplane_below,
     orca_halfplanes_robots,
 )
-from swarmpath.control.orca.obstacles import ObstacleForecast, RedrawGuard, footprint_offsets
+from swarmpath.control.orca.obstacles import (
+    ObstacleForecast,
+    RedrawGuard,
+    footprint_offsets,
+    teleports,
+)
 from swarmpath.control.orca.static_features import StaticFeatures, closest_on_segments
 from swarmpath.errors import ConfigError
 from swarmpath.world import geometry as g
@@ -151,8 +156,7 @@ class ORCASolver:
             self.static_margin = np.zeros(0)
         self.points = self.radii == 0
         self.resolution = float(world.resolution)
-        self.redraw = RedrawGuard(world) if any(getattr(o.motion, "kind", "") == "redraw"
-                                                for o in world.moving_obstacles) else None
+        self.redraw = RedrawGuard(world) if any(teleports(o) for o in world.moving_obstacles) else None
         self.has_static = bool(len(world.obstacles) or world.static_map is not None)
         shapes = [o.shape for o in world.moving_obstacles]
         self.obstacle_is_circle = np.array([isinstance(sh, Circle) for sh in shapes], bool)
