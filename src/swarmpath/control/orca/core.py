@@ -358,6 +358,12 @@ class ORCASolver:
                 exposed_or_stuck = exposed
         else:
             exposed_or_stuck = exposed
+        if forecast is not None and len(forecast.now):
+            # robots held still only by the obstacles' next moves (a moving fraction passes the
+            # hard checks; e.g. a slow robot between the cells a redraw obstacle may take)
+            # look for a sideways move that keeps clear and gets closer to their proposal
+            held = (first_ok == last) & (first_hard < last) & np.any(d != 0, axis=1)
+            exposed_or_stuck = exposed_or_stuck | held
         if exposed_or_stuck.any() and forecast is not None:
             # the linearised lines can miss an escape: try a ring of moves exactly
             rows = np.flatnonzero(exposed_or_stuck)
