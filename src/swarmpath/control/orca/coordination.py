@@ -85,6 +85,7 @@ class Coordination:
         # so that no two neighbours in a symmetric crowd turn alike
         self.bias_ = self.side_bias * (0.5 + np.mod(np.arange(n) * GOLDEN, 1.0))
         self.best_ = guidance.remaining(world.starts) if n else np.zeros(0)
+        self.parked_ = self.best_ <= 1e-9               # has reached its goal
         self.since_ = np.zeros(n, np.int64)
         self.reported_ = np.zeros(n, bool)
 
@@ -93,7 +94,7 @@ class Coordination:
         """Robots not at their goal that made no progress for ``yield_after`` steps (n,)."""
         if self.yield_after == 0:
             return np.zeros(len(self.since_), bool)
-        return (self.since_ >= self.yield_after) & (self.best_ > 1e-9)
+        return (self.since_ >= self.yield_after) & ~self.parked_
 
     # ------------------------------------------------------------------ each step
     def preferred(self, pos: FloatArray, pref: FloatArray) -> FloatArray:
@@ -120,7 +121,7 @@ class Coordination:
         stalled = self.stalled
         if not stalled.any():
             return pref
-        parked = self.best_ <= 1e-9
+        parked = self.parked_
         group = np.flatnonzero(stalled | parked)
         if len(group) < 2:
             return pref
@@ -151,10 +152,13 @@ class Coordination:
         tenth of a step's travel for ``patience`` steps is reported once, and again when it
         makes progress."""
         remaining = self.guidance_.remaining(pos)
-        better = remaining < self.best_ - 0.1 * self.step_len_
         arrived = remaining <= 1e-9
+        better = remaining < self.best_ - 0.1 * self.step_len_
         self.best_ = np.where(better | arrived, remaining, self.best_)
         self.since_ = np.where(better | arrived, 0, self.since_ + 1)
+        # a robot that has reached its goal ranks as parked from then on, also while it
+        # backs away to make room (else it would come back at once and block again)
+        self.parked_ = self.best_ <= 1e-9
         events = []
         for i in np.flatnonzero((self.since_ >= self.patience) & ~self.reported_):
             events.append({"robot": int(i), "kind": "deadlock",

@@ -33,6 +33,7 @@ from swarmpath.control.orca.halfplanes import (
     halfplane_below,
     orca_halfplanes_robots,
 )
+from swarmpath.control.orca.making_way import make_way
 from swarmpath.control.orca.obstacles import (
     ObstacleForecast,
     RedrawGuard,
@@ -147,6 +148,7 @@ class ORCASolver:
         self.step_len = self.speeds * self.dt
         self.tau = float(p.time_horizon)
         self.tau_static = max(float(p.obstacle_time_horizon), self.dt)
+        self.goals = world.goals
         n = world.n_robots
         # a static margin a robot can live with at its goal
         if n:
@@ -192,10 +194,14 @@ class ORCASolver:
         clearance = self.radii + self.static_margin
         # hard: static features and the workspace
         reach = clearance + self.speeds * self.tau_static + 1e-9
+        # a robot near its goal looks one step ahead only: with a longer horizon a goal close
+        # to a wall is approached by ever shorter steps and never reached
+        tau = np.where(np.linalg.norm(pos - self.goals, axis=1) <= self.speeds * self.tau_static, self.dt,
+                       self.tau_static) if n else np.zeros(0)
         owner, offset = self.features.closest(pos, reach)
-        add(owner, *clearance_halfplanes(offset, clearance[owner], self.tau_static, floor=0.0), 0)
-        owner, normal, room = self.features.bound_lines(pos, clearance, self.step_len)
-        add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / self.tau_static), 0)
+        add(owner, *clearance_halfplanes(offset, clearance[owner], tau[owner], floor=0.0), 0)
+        owner, normal, room = self.features.bound_lines(pos, clearance, self.step_len, reach - clearance)
+        add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / tau[owner]), 0)
         # moving obstacles: hard (this step's footprint), firm (next move), soft (ORCA)
         if forecast is not None and len(forecast.now):
             self._obstacle_lines(pos, vel, forecast, add)
@@ -260,12 +266,14 @@ class ORCASolver:
     # ------------------------------------------------------------------ exact checks
     def static_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray) -> BoolArray:
         """Moves a -> b of robots ``rows`` that enter static geometry or leave the workspace
-        (the simulator's test, with a hair of slack)."""
+        (the simulator's test, with a hair of slack for discs: a point robot may stand on the
+        workspace's edge, where any slack would forbid every move)."""
         moved = np.any(a != b, axis=1)
         out = np.zeros(len(rows), bool)
         if moved.any():
             k = np.flatnonzero(moved)
-            out[k] = self.world.static_hits(a[k], b[k], self.radii[rows[k]] + CHECK_SLACK)
+            r = self.radii[rows[k]]
+            out[k] = self.world.static_hits(a[k], b[k], r + CHECK_SLACK * (r > 0))
         return out
 
     def obstacle_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray, fc: ObstacleForecast | None
@@ -378,7 +386,28 @@ class ORCASolver:
         out = p0 + s[:, None] * d
         full = level == 0
         out[full] = p1[full]
+        if forecast is not None and len(forecast.now) and len(p0) > 1:
+            # a robot that a neighbour's move cut short may now stand in an obstacle's next
+            # move: it looks again for a clear move, moving neighbours out of its way if need
+            # be (making_way.py)
+            soft = self._soft_unsafe(p0, out, np.arange(len(p0)), forecast)
+            rows = np.flatnonzero(soft & ~exposed)
+            if len(rows):
+                out, freed, pushed = make_way(self, p0, p1, out, rows, forecast)
+                s = s.copy()
+                s[rows[freed]] = 1.0
+                s[pushed] = 0.0
+                exposed = exposed.copy()
+                exposed[rows[~freed]] = True
         return SafeMoves(out, s, exposed)
+
+    def _soft_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray, fc: ObstacleForecast) -> BoolArray:
+        """Moves a -> b of robots ``rows`` whose end lies in an obstacle's next move (a redraw
+        jump included)."""
+        _, soft = self.obstacle_unsafe(a, b, rows, fc)
+        if self.redraw is not None:
+            soft = soft | self.redraw.danger(b, self.radii[rows] + CHECK_SLACK)
+        return soft
 
     def _escape(self, p0: FloatArray, p1: FloatArray, rows: IntArray, fc: ObstacleForecast
                 ) -> tuple[FloatArray, BoolArray]:
