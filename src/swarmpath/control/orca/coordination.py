@@ -85,16 +85,26 @@ class Coordination:
         # so that no two neighbours in a symmetric crowd turn alike
         self.bias_ = self.side_bias * (0.5 + np.mod(np.arange(n) * GOLDEN, 1.0))
         self.best_ = guidance.remaining(world.starts) if n else np.zeros(0)
-        self.parked_ = self.best_ <= 1e-9               # has reached its goal
+        self.at_goal_ = self.best_ <= 1e-9              # at its goal now
         self.since_ = np.zeros(n, np.int64)
         self.reported_ = np.zeros(n, bool)
 
     @property
     def stalled(self) -> BoolArray:
-        """Robots not at their goal that made no progress for ``yield_after`` steps (n,)."""
+        """Robots not at their goal that made no progress for ``yield_after`` steps (n,); a
+        robot that had reached its goal and left it (to make room) only after ``patience``
+        steps away (two of them must not keep each other away for good)."""
         if self.yield_after == 0:
             return np.zeros(len(self.since_), bool)
-        return (self.since_ >= self.yield_after) & ~self.parked_
+        returning = (self.best_ <= 1e-9) & ~self.at_goal_
+        wait = np.where(returning, max(self.patience, self.yield_after), self.yield_after)
+        return (self.since_ >= wait) & ~self.at_goal_
+
+    @property
+    def parked(self) -> BoolArray:
+        """Robots that have reached their goal and are not stalled (n,): they rank below every
+        stalled robot, also while they back away from one."""
+        return (self.best_ <= 1e-9) & ~self.stalled
 
     # ------------------------------------------------------------------ each step
     def preferred(self, pos: FloatArray, pref: FloatArray) -> FloatArray:
@@ -121,7 +131,7 @@ class Coordination:
         stalled = self.stalled
         if not stalled.any():
             return pref
-        parked = self.parked_
+        parked = self.parked
         group = np.flatnonzero(stalled | parked)
         if len(group) < 2:
             return pref
@@ -156,9 +166,7 @@ class Coordination:
         better = remaining < self.best_ - 0.1 * self.step_len_
         self.best_ = np.where(better | arrived, remaining, self.best_)
         self.since_ = np.where(better | arrived, 0, self.since_ + 1)
-        # a robot that has reached its goal ranks as parked from then on, also while it
-        # backs away to make room (else it would come back at once and block again)
-        self.parked_ = self.best_ <= 1e-9
+        self.at_goal_ = arrived
         events = []
         for i in np.flatnonzero((self.since_ >= self.patience) & ~self.reported_):
             events.append({"robot": int(i), "kind": "deadlock",

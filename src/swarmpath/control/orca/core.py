@@ -177,9 +177,10 @@ class ORCASolver:
         return np.where(both, np.sqrt(2.0) * self.resolution, rsum) + self.params.safety_margin
 
     # ------------------------------------------------------------------ lines
-    def lines(self, pos: FloatArray, vel: FloatArray, forecast: ObstacleForecast | None
-              ) -> tuple[FloatArray, IntArray, IntArray, IntArray]:
-        """Every robot's lines, packed (see :func:`kernels.pack_lines`)."""
+    def lines(self, pos: FloatArray, vel: FloatArray, forecast: ObstacleForecast | None,
+              fixed: BoolArray | None = None) -> tuple[FloatArray, IntArray, IntArray, IntArray]:
+        """Every robot's lines, packed (see :func:`kernels.pack_lines`). A neighbour that is
+        ``fixed`` (n,) (it will not move) leaves the whole avoidance to the other robot."""
         n = len(pos)
         p = self.params
         owners, pts, dirs, tiers = [], [], [], []
@@ -209,8 +210,9 @@ class ORCASolver:
         if n > 1 and p.max_neighbours > 0:
             i, j = self.neighbours(pos)
             if len(i):
+                c = 0.5 if fixed is None else np.where(fixed[j], 1.0, 0.5)
                 lp_, ld_ = orca_halfplanes_robots(pos[j] - pos[i], vel[i] - vel[j], vel[i],
-                                                  self.combined_radius(i, j), self.tau, self.dt, 0.5)
+                                                  self.combined_radius(i, j), self.tau, self.dt, c)
                 add(i, lp_, ld_, 2)
         if owners:
             return kernels.pack_lines(np.concatenate(owners), np.concatenate(pts), np.concatenate(dirs),
@@ -257,11 +259,14 @@ class ORCASolver:
 
     # ------------------------------------------------------------------ velocities
     def velocities(self, pos: FloatArray, vel: FloatArray, preferred: FloatArray,
-                   forecast: ObstacleForecast | None) -> tuple[FloatArray, IntArray]:
+                   forecast: ObstacleForecast | None, fixed: BoolArray | None = None) -> tuple[FloatArray, IntArray]:
         """New velocities (n, 2) and LP statuses (n,) (0 all lines held, 1 robot lines
-        relaxed, 2 obstacle lines relaxed, 3 none possible)."""
-        lines, n_lines, n_hard, n_firm = self.lines(pos, vel, forecast)
-        return kernels.solve_lines(lines, n_lines, n_hard, n_firm, preferred, self.speeds)
+        relaxed, 2 obstacle lines relaxed, 3 none possible); ``fixed`` robots (n,) get 0."""
+        lines, n_lines, n_hard, n_firm = self.lines(pos, vel, forecast, fixed)
+        v, status = kernels.solve_lines(lines, n_lines, n_hard, n_firm, preferred, self.speeds)
+        if fixed is not None:
+            v[fixed] = 0.0
+        return v, status
 
     # ------------------------------------------------------------------ exact checks
     def static_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray) -> BoolArray:
@@ -315,14 +320,18 @@ class ORCASolver:
         depth = over.max(axis=1)
         return hard, depth > 0, depth
 
-    def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None) -> SafeMoves:
+    def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None,
+                  fixed: BoolArray | None = None) -> SafeMoves:
         """The largest fraction in :data:`SCALES` of each move p0 -> p1 that passes the exact
         checks: static geometry and moving footprints always (a shorter piece of a safe move
         is safe, and standing still is), the next move of moving obstacles when some
         fraction can, then every pair of robots by the simulator's move rules
         (:func:`swarmpath.world.move_rules.move_conflicts`): both robots of a conflicting
         pair step down a fraction until no pair conflicts (at worst both stand, and two
-        standing robots never conflict). Every loop is bounded by the number of fractions."""
+        standing robots never conflict). Every loop is bounded by the number of fractions.
+        ``fixed`` robots (n,) stand still and are never moved to make way."""
+        if fixed is not None:
+            p1 = np.where(np.asarray(fixed, bool)[:, None], p0, p1)
         n = len(p0)
         scales = np.asarray(SCALES)
         last = len(scales) - 1
@@ -372,6 +381,8 @@ class ORCASolver:
             # look for a sideways move that keeps clear and gets closer to their proposal
             held = (first_ok == last) & (first_hard < last) & np.any(d != 0, axis=1)
             exposed_or_stuck = exposed_or_stuck | held
+        if fixed is not None:
+            exposed_or_stuck = exposed_or_stuck & ~fixed
         if exposed_or_stuck.any() and forecast is not None:
             # the linearised lines can miss an escape: try a ring of moves exactly
             rows = np.flatnonzero(exposed_or_stuck)
@@ -391,9 +402,9 @@ class ORCASolver:
             # move: it looks again for a clear move, moving neighbours out of its way if need
             # be (making_way.py)
             soft = self._soft_unsafe(p0, out, np.arange(len(p0)), forecast)
-            rows = np.flatnonzero(soft & ~exposed)
+            rows = np.flatnonzero(soft & ~exposed & (True if fixed is None else ~fixed))
             if len(rows):
-                out, freed, pushed = make_way(self, p0, p1, out, rows, forecast)
+                out, freed, pushed = make_way(self, p0, p1, out, rows, forecast, fixed=fixed)
                 s = s.copy()
                 s[rows[freed]] = 1.0
                 s[pushed] = 0.0

@@ -40,8 +40,9 @@ PUSH_LENGTHS = (0.25, 0.5, 1.0)
 class _Search:
     """One :func:`make_way` call's state: the solver's exact checks and the final moves."""
 
-    def __init__(self, solver, p0: FloatArray, out: FloatArray, fc, budget: int):
+    def __init__(self, solver, p0: FloatArray, out: FloatArray, fc, budget: int, fixed: BoolArray | None = None):
         self.solver = solver
+        self.fixed = np.zeros(len(p0), bool) if fixed is None else np.asarray(fixed, bool)
         self.p0 = p0
         self.out = out
         self.fc = fc
@@ -125,7 +126,7 @@ class _Search:
             if self.budget <= 0:
                 return False
             self.budget -= 1
-            if any(int(j) in chain for j in block):
+            if any(int(j) in chain or self.fixed[j] for j in block):
                 continue
             if len(block) == 0:
                 self.out[i] = end
@@ -149,7 +150,7 @@ class _Search:
 
 
 def make_way(solver, p0: FloatArray, p1: FloatArray, out: FloatArray, rows: IntArray, fc, *, depth: int = 4,
-             budget: int = 3000) -> tuple[FloatArray, BoolArray, BoolArray]:
+             budget: int = 3000, fixed: BoolArray | None = None) -> tuple[FloatArray, BoolArray, BoolArray]:
     """Give robots ``rows`` (left in an obstacle's next move) a safe move, moving neighbours
     out of the way where needed (see the module docstring).
 
@@ -161,6 +162,7 @@ def make_way(solver, p0: FloatArray, p1: FloatArray, out: FloatArray, rows: IntA
     fc : the obstacles' :class:`~swarmpath.control.orca.obstacles.ObstacleForecast`
     depth : how many robots deep neighbours may be pushed; budget : moves tried per robot and
         depth (iterative deepening: every depth from 0 to ``depth`` gets this budget)
+    fixed : (n,) robots that are never pushed
 
     Returns
     -------
@@ -170,7 +172,7 @@ def make_way(solver, p0: FloatArray, p1: FloatArray, out: FloatArray, rows: IntA
     freed = np.zeros(len(rows), bool)
     before = out.copy()
     for k, i in enumerate(rows):
-        search = _Search(solver, p0, out, fc, budget)
+        search = _Search(solver, p0, out, fc, budget, fixed)
         moves = search.safe_moves(int(i), np.zeros((0, 2)))
         if not len(moves):
             continue

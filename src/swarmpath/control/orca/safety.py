@@ -88,10 +88,12 @@ class SafetyLayer:
         self.scale_ = np.ones(n)
         self.exposed_ = np.zeros(n, bool)
 
-    def safe_positions(self, obs: Observation, proposed: FloatArray) -> tuple[FloatArray, BoolArray]:
+    def safe_positions(self, obs: Observation, proposed: FloatArray, fixed: BoolArray | None = None
+                       ) -> tuple[FloatArray, BoolArray]:
         """The closest safe next positions (n, 2) to ``proposed`` (n, 2), and which robots'
         proposals were changed (n,). A non-finite proposal counts as "stay"; one beyond the
-        robot's speed is shortened first."""
+        robot's speed is shortened first. Robots ``fixed`` (n,) stand still whatever happens
+        (a robot without a plan, say): the others take the whole avoidance on themselves."""
         if not hasattr(self, "solver_"):
             raise ConfigError("SafetyLayer: call reset(world) before safe_positions")
         pos = np.asarray(obs.positions, float)
@@ -104,6 +106,9 @@ class SafetyLayer:
         if n == 0:
             return pos.copy(), np.zeros(0, bool)
         wanted = np.where(np.all(np.isfinite(proposed), axis=1)[:, None], proposed, pos)
+        if fixed is not None:
+            fixed = np.asarray(fixed, bool)
+            wanted = np.where(fixed[:, None], pos, wanted)
         pref = (wanted - pos) / dt
         speed = np.linalg.norm(pref, axis=1)
         over = speed > solver.speeds
@@ -116,14 +121,14 @@ class SafetyLayer:
             else:
                 forecast = forecast_obstacles(self.world_, obs.obstacle_positions, obs.obstacle_previous, obs.step,
                                               dt)
-        v, status = solver.velocities(pos, vel, pref, forecast)
+        v, status = solver.velocities(pos, vel, pref, forecast, fixed)
         p1 = pos + v * dt
         # the proposal itself when ORCA kept it (up to rounding), exact goals, no dust moves
         kept = np.linalg.norm(p1 - wanted, axis=1) <= 1e-9 * np.maximum(1.0, np.abs(wanted).max(axis=1))
         kept &= ~over
         p1 = tidy_moves(pos, p1, obs.goals, solver.step_len)
         p1[kept] = wanted[kept]
-        safe = solver.make_safe(pos, p1, forecast)
+        safe = solver.make_safe(pos, p1, forecast, fixed)
         self.previous_ = pos.copy()
         self.status_, self.scale_, self.exposed_ = status, safe.scale, safe.exposed
         adjusted = np.any(safe.positions != proposed, axis=1)
