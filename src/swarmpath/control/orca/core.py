@@ -375,10 +375,12 @@ class ORCASolver:
                 exposed_or_stuck = exposed
         else:
             exposed_or_stuck = exposed
+        held = np.zeros(n, bool)
         if forecast is not None and len(forecast.now):
             # robots held still only by the obstacles' next moves (a moving fraction passes the
             # hard checks; e.g. a slow robot between the cells a redraw obstacle may take)
-            # look for a sideways move that keeps clear and gets closer to their proposal
+            # look for a sideways move that keeps clear and gets closer to a full step in the
+            # direction of their proposal
             held = (first_ok == last) & (first_hard < last) & np.any(d != 0, axis=1)
             exposed_or_stuck = exposed_or_stuck | held
         if fixed is not None:
@@ -386,7 +388,11 @@ class ORCASolver:
         if exposed_or_stuck.any() and forecast is not None:
             # the linearised lines can miss an escape: try a ring of moves exactly
             rows = np.flatnonzero(exposed_or_stuck)
-            ends, clear = self._escape(p0, p1, rows, forecast)
+            aim = p1.copy()
+            if held.any():
+                length = np.maximum(np.linalg.norm(d[held], axis=1), 1e-300)
+                aim[held] = p0[held] + d[held] * (self.step_len[held] / length)[:, None]
+            ends, clear = self._escape(p0, p1, rows, forecast, aim)
             p1 = p1.copy()
             p1[rows] = ends
             d = p1 - p0
@@ -420,13 +426,16 @@ class ORCASolver:
             soft = soft | self.redraw.danger(b, self.radii[rows] + CHECK_SLACK)
         return soft
 
-    def _escape(self, p0: FloatArray, p1: FloatArray, rows: IntArray, fc: ObstacleForecast
-                ) -> tuple[FloatArray, BoolArray]:
+    def _escape(self, p0: FloatArray, p1: FloatArray, rows: IntArray, fc: ObstacleForecast,
+                aim: FloatArray | None = None) -> tuple[FloatArray, BoolArray]:
         """For robots ``rows`` that no fraction of their move keeps clear of the obstacles'
-        next moves: among ``ESCAPE_DIRECTIONS`` directions at full and half step, standing
-        still and the move itself, the end position that passes every check and lies closest
-        to the proposed one, else the one (passing the hard checks) that enters the next
-        moves least. Returns the end positions (k, 2) and which of them are clear (k,)."""
+        next moves: among ``ESCAPE_DIRECTIONS`` directions at full and half step, the grid
+        cell centres within a step, standing still and the move itself, the end position that
+        passes every check and lies closest
+        to the proposed one (or to ``aim`` (n, 2) where given), else the one (passing the hard
+        checks) that enters the next moves least. Returns the end positions (k, 2) and which
+        of them are clear (k,)."""
+        aim = p1 if aim is None else aim
         k = len(rows)
         ang = 2 * np.pi * np.arange(ESCAPE_DIRECTIONS) / ESCAPE_DIRECTIONS
         ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
@@ -434,7 +443,8 @@ class ORCASolver:
         offsets = (frac[:, None, None] * ring[None]).reshape(-1, 2)                     # (c, 2)
         step = self.step_len[rows]
         cand = p0[rows][:, None, :] + offsets[None] * step[:, None, None]               # (k, c, 2)
-        cand = np.concatenate([p1[rows][:, None, :], p0[rows][:, None, :], cand], axis=1)
+        cand = np.concatenate([p1[rows][:, None, :], p0[rows][:, None, :], cand, self._cell_centres(p0[rows], step)],
+                              axis=1)
         c = cand.shape[1]
         flat_rows = np.repeat(rows, c)
         a = np.repeat(p0[rows], c, axis=0)
@@ -449,7 +459,7 @@ class ORCASolver:
         hard = hard.reshape(k, c)
         clear = ~hard & ~soft.reshape(k, c)
         depth = depth.reshape(k, c)
-        dist = np.linalg.norm(cand - p1[rows][:, None, :], axis=2)
+        dist = np.linalg.norm(cand - aim[rows][:, None, :], axis=2)
         viable = np.zeros((k, c), bool)
         if fc.next2 is not None and clear.any():
             kk, cc = np.nonzero(clear)
@@ -464,6 +474,19 @@ class ORCASolver:
         none = ~np.isfinite(score[pick, best])
         ends[none] = p1[rows][none]
         return ends, ok
+
+    def _cell_centres(self, pos: FloatArray, step: FloatArray) -> FloatArray:
+        """The centres of the grid cells around each position (k, 2), (k, c, 2), those out of
+        one step's reach replaced by the position itself: where a redraw obstacle cannot land
+        beside a robot, the spots a ring of directions may miss."""
+        res = self.resolution
+        span = int(np.ceil(float(step.max(initial=0.0)) / res)) if len(step) else 0
+        off = np.arange(-span, span + 1)
+        ox, oy = np.meshgrid(off, off, indexing="xy")
+        cells = np.floor(pos / res)[:, None, :] + np.stack([ox.ravel(), oy.ravel()], axis=1)[None]
+        centres = (cells + 0.5) * res
+        far = np.linalg.norm(centres - pos[:, None, :], axis=2) > step[:, None]
+        return np.where(far[..., None], pos[:, None, :], centres)
 
     def _viable(self, ends: FloatArray, rows: IntArray, fc: ObstacleForecast) -> BoolArray:
         """Whether from each end position (k, 2) of robots ``rows`` some move of the step
