@@ -139,6 +139,27 @@ def test_moving_obstacles_never_push_robots_into_walls(kind, where):
                     and c.robot not in _hit_in_phase1(world, traj, c.step)]
 
 
+def slow_redraw_room(seed: int) -> World:
+    """A walled 12 x 12 room with a wall stub, four robots of speed 0.5 (half a cell per step)
+    and three redraw obstacles: a robot must cross the band between two cells, where some
+    redraw could land next to it, in steps shorter than the band."""
+    base = World(RectBounds(12, 12), obstacles=(Rect((5.5, 0), (6.5, 5)),),
+                 robots=tuple(Robot(f"r{i}", (1.0, 2.0 + 2 * i), (11.0, 10.0 - 2 * i), 0.3, 0.5) for i in range(4)))
+    return with_obstacles(base, "redraw", 3, seed)
+
+
+def test_slow_robots_get_past_redraw_obstacles():
+    """Standing still is always clear of a redraw's next jump here, so the exact check used
+    to keep such robots still for good (deadlock); a robot held still only by the obstacles'
+    next moves now tries the ring of sideways moves for one that keeps clear and makes
+    progress."""
+    for seed in range(5):
+        world = slow_redraw_room(seed)
+        traj = run(world, seed=seed, max_steps=300)
+        assert traj.status == ALL_REACHED and traj.contacts == [], f"seed {seed}"
+        assert validate_trajectory(world, traj) == []
+
+
 def _hit_in_phase1(world, traj, step):
     from swarmpath.sim.collisions import robot_moving_contacts
 

@@ -135,11 +135,32 @@ def test_closest_features_agree_with_the_world_clearance():
     owner, offset = feats.closest(pts, np.full(len(pts), 50.0))
     nearest = np.full(len(pts), np.inf)
     np.minimum.at(nearest, owner, np.linalg.norm(offset, axis=1))
+    # the workspace's sides come as half-planes with their own normals
+    side, normal, room = feats.bound_lines(pts, np.zeros(len(pts)), np.ones(len(pts)), np.full(len(pts), 50.0))
+    np.minimum.at(nearest, side, room)
     np.testing.assert_allclose(nearest, world.static_clearance(pts), atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(normal, axis=1), 1.0)
     # with a small reach only the features that close come back
     owner, offset = feats.closest(pts, np.full(len(pts), 0.5))
-    assert np.all(np.linalg.norm(offset, axis=1) <= 0.5)
-    assert set(owner.tolist()) == set(np.flatnonzero(world.static_clearance(pts) <= 0.5).tolist())
+    side, _, room = feats.bound_lines(pts, np.zeros(len(pts)), np.ones(len(pts)), np.full(len(pts), 0.5))
+    assert np.all(np.linalg.norm(offset, axis=1) <= 0.5) and np.all(room <= 0.5 + 1e-9)
+    near = set(owner.tolist()) | set(side.tolist())
+    assert near == set(np.flatnonzero(world.static_clearance(pts) <= 0.5).tolist())
+
+
+def test_a_point_robot_on_the_workspace_edge_may_move_inwards():
+    """A point robot may stand on the edge (abbas-case2 starts there): the side keeps its
+    outward normal, so only outward moves are cut."""
+    world = World(RectBounds(10, 10), robots=(Robot("a", (0.0, 7.5), (10.0, 0.0), 0.0, 0.5),))
+    feats = StaticFeatures(world)
+    side, normal, room = feats.bound_lines(world.starts, np.zeros(1), np.full(1, 0.5))
+    assert side.tolist() == [0] and normal.tolist() == [[-1.0, 0.0]] and room.tolist() == [0.0]
+    from swarmpath.control.orca import ORCASolver
+
+    solver = ORCASolver()
+    solver.reset(world)
+    v, _ = solver.velocities(world.starts, np.zeros((1, 2)), np.array([[0.3, -0.4]]), None)
+    np.testing.assert_allclose(v, [[0.3, -0.4]])
 
 
 def test_raster_features_use_the_kd_tree_on_large_maps(data_dir):
@@ -202,6 +223,26 @@ def test_worst_case_next_move_per_motion_model():
     ob = w.moving_obstacles[0]
     assert _worst_case_next(ob, w, np.array([6.0, 5.0]), np.array([5.5, 5.0]), 1, 1.0)[1] == 0.0
     assert _worst_case_next(ob, w, np.array([6.75, 5.0]), np.array([6.25, 5.0]), 1, 1.0)[1] == 0.5  # corner
+
+
+def test_worst_case_reads_the_motion_registry():
+    """A model the forecast does not know as straight (orbit: it turns every step) keeps its
+    whole declared reach clear, even when its last move happened to be one full step."""
+    from swarmpath.world.motions.orbit import Orbit
+
+    w = walled(Orbit((5.0, 5.0)), start=(7.0, 5.0), velocity=(0.0, 0.5))
+    ob = w.moving_obstacles[0]
+    now, prev = np.array([7.0, 5.0]), np.array([7.0, 4.5])
+    nxt, reach = _worst_case_next(ob, w, now, prev, 1, 1.0)
+    assert np.array_equal(nxt, now) and reach == pytest.approx(ob.max_step(1.0, w.resolution))
+
+
+def test_uniform_redraw_has_no_guard():
+    """The paper's uniform redraw may land on the robot's own cell: no end is safer, so the
+    guard leaves it out (the hits are counted by the checker, not avoided)."""
+    guard = RedrawGuard(walled(Redraw(avoid_robots=False)))
+    assert guard.fits == {}
+    assert not guard.danger(np.array([[4.0, 3.5]]), np.array([0.3])).any()
 
 
 def test_forecast_marks_redraw_as_jumping():

@@ -113,12 +113,15 @@ def test_registered_with_honest_capabilities(name):
 
 
 def test_reactive_baseline_can_be_run_over_in_the_conformance_world():
-    """What the capability says: with a moving obstacle the reactive baseline collides in the
-    conformance world, the predictive controller does not (check_controller forced strict)."""
+    """What the capability says: with a moving obstacle the reactive swarm collides in the
+    conformance world, the predictive controller does not (check_controller forced strict).
+    Its safety layer sees the obstacle standing, so it does not promise more (the parked
+    robot below is run over with the layer on)."""
     moving = [w for w in conformance_worlds() if w.moving_obstacles]
-    assert check_controller(pp.ReactivePSOController, planner="none", worlds=moving, require_collision_free=True)
-    assert check_controller(pp.PredictivePSOController, planner="none", worlds=moving,
-                            require_collision_free=True) == []
+    assert check_controller(lambda: pp.ReactivePSOController(safety=False), planner="none", worlds=moving,
+                            require_collision_free=True)
+    for factory in (pp.PredictivePSOController, lambda: pp.PredictivePSOController(safety=False)):
+        assert check_controller(factory, planner="none", worlds=moving, require_collision_free=True) == []
 
 
 def test_scenario_defaults():
@@ -162,17 +165,24 @@ def test_prediction_keeps_a_parked_robot_out_of_the_obstacles_way():
         assert any(c.kind == "robot_moving" for c in reactive.contacts)
 
 
-def test_detour_gets_a_robot_out_of_the_local_minimum_of_a_flat_wall():
-    """Eq. 3 alone (stuck_steps=0) leaves a robot in front of a wall whose goal lies straight
-    behind it; the detour of the controller gets it round."""
+def test_guidance_or_a_detour_gets_a_robot_out_of_the_local_minimum_of_a_flat_wall():
+    """Eq. 3 alone (no guidance, no detours) leaves a robot in front of a wall whose goal lies
+    straight behind it; a detour gets it round, and so does the guidance (the steering point
+    is a cell in sight along the goal's distance field), without any detour."""
     world = World(RectBounds(10, 10), obstacles=(Rect((4, 3), (6, 7)),),
                   robots=(Robot("a", (2.0, 5.0), (8.0, 5.0), 0.5, 0.5),), name="wall")
     for seed in range(3):
-        stuck = Simulator(world, pp.PredictivePSOController(stuck_steps=0), seed=seed, max_steps=150).run()
+        stuck = Simulator(world, pp.PredictivePSOController(stuck_steps=0, guidance=False), seed=seed,
+                          max_steps=150).run()
         assert stuck.status != ALL_REACHED
-        freed = Simulator(world, pp.PredictivePSOController(), seed=seed, max_steps=150).run()
+        freed = Simulator(world, pp.PredictivePSOController(stuck_steps=10, guidance=False), seed=seed,
+                          max_steps=150).run()
         assert freed.status == ALL_REACHED and validate_trajectory(world, freed) == []
         assert any(e["kind"] == "detour" for e in freed.events)
+        guided = Simulator(world, pp.PredictivePSOController(), seed=seed, max_steps=150).run()
+        assert guided.status == ALL_REACHED and validate_trajectory(world, guided) == []
+        assert not any(e["kind"] == "detour" for e in guided.events)
+        assert guided.n_steps < freed.n_steps
 
 
 # ------------------------------------------------------------------------------ acceptance

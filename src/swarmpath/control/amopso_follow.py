@@ -30,7 +30,16 @@ contact.
 After a side step the robot rejoins its path at the next vertex along a straight segment if
 that segment is free of static obstacles (exact, ``World.static_hits``), else it first steps
 back to where it left the path; every move therefore lies on a collision-free segment.
-Moving obstacles are ignored (capabilities: ``moving_obstacles=False``).
+``amopso-follow-paper`` ignores moving obstacles.
+
+``amopso-follow`` adds, by default, what every improved continuous controller has (our
+additions, each a switch): *guidance* (a robot whose straight move along its path would touch
+a wall, having been pushed off it, steers at the guidance's point instead: a visible vertex
+of its plan, else the goal's distance field, :class:`~swarmpath.control.orca.Guidance`), the
+deterministic side preference and priority yielding with deadlock events
+(:class:`~swarmpath.control.orca.coordination.Coordination`), and the ORCA *safety layer*
+(:class:`~swarmpath.control.orca.SafetyLayer`): the follower's choice becomes the closest
+safe move, so moving obstacles of every motion model are avoided too.
 """
 from __future__ import annotations
 
@@ -41,6 +50,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.observation import Observation
+from swarmpath.control.orca.coordination import Coordination
+from swarmpath.control.orca.guidance import Guidance, velocity_toward
+from swarmpath.control.orca.safety import SafetyLayer
 from swarmpath.control.path_tracking import advance_along
 from swarmpath.errors import ConfigError
 from swarmpath.capabilities import Capabilities
@@ -156,7 +168,7 @@ class PathFollowing(Controller):
                 modes[i] = "arrived" if obs.at_goal[i] else ("no-plan" if route is None else "wait")
                 continue
             budget = float(self.budget_[i])
-            p, k = advance_along(route, pos[i], int(self.next_[i]), budget)
+            p, k = self._aligned(i, pos[i], budget)
             if self._free(i, pos[i], p, pos, new, decided):
                 new[i], self.next_[i] = p, k
             else:
@@ -164,6 +176,11 @@ class PathFollowing(Controller):
             self.waited_[i] = self.waited_[i] + 1 if modes[i] == "wait" else 0
             decided[i] = True
         return Decision(new, modes, tuple(events))
+
+    def _aligned(self, i: int, p: FloatArray, budget: float) -> tuple[FloatArray, int]:
+        """Principle 1: robot i's next position aligned with its goal, ``budget`` further along
+        its path from ``p``, and the index of the next path vertex still ahead."""
+        return advance_along(self.routes_[i], p, int(self.next_[i]), budget)
 
     def _give_way(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
                   budget: float, events: list[dict]) -> tuple[FloatArray, str]:
@@ -204,36 +221,167 @@ class PathFollowing(Controller):
 
 @register_controller("amopso-follow")
 class AMOPSOFollowController(PathFollowing):
-    """Follow the offline paths; give way by slowing down, waiting, or side stepping.
+    """Follow the offline paths behind the ORCA safety layer, with guidance along the plan and
+    deterministic deadlock breaking; optionally give way by the follower's own rules (slow
+    down, wait, side step).
 
     Parameters
     ----------
     sidestep : float, optional
         Length of a side step (the paper's threshold), world units; default: the robot's
-        largest step ``max_speed * dt``.
+        largest step ``max_speed * dt``. Used with ``give_way``.
     separation : float
         Extra distance kept between robots' discs (world units) at every time of a step.
+        Used with ``give_way``.
     max_waits : int
-        When the aligned move and the shorter moves along the path (1/2, 1/4 of the step)
-        all conflict, the robot waits, up to ``max_waits`` steps in a row, before it side
-        steps (2; 0: side step as soon as the shorter moves fail). The paper's rule, a side
-        step at once without shorter moves or a margin, is ``amopso-follow-paper``.
+        With ``give_way``: when the aligned move and the shorter moves (1/2, 1/4 of it) all
+        conflict, the robot waits, up to ``max_waits`` steps in a row, before it side steps
+        (2; 0: side step as soon as the shorter moves fail). The paper's rule, a side step at
+        once without shorter moves or a margin, is ``amopso-follow-paper``.
+    give_way : bool
+        The follower resolves conflicts with other robots itself (principle 2 with our shorter
+        moves and waiting, robots deciding one after the other). Off by default: the safety
+        layer resolves them (measured: with the layer, the follower's own rules leave robots
+        waiting for each other in the doors of dense maps; docs/papers/amopso.md). Needed
+        when ``safety`` is off.
+    safety : bool
+        Put the ORCA safety layer after the follower: each move becomes the closest safe one,
+        among robots, walls and moving obstacles of every motion model.
+    safety_horizon : float
+        The layer's time horizon for robots and moving obstacles, in steps (1: the next step
+        is kept safe).
+    guidance : bool
+        Principle 1 by the guidance (:class:`~swarmpath.control.orca.Guidance`): a full step
+        toward the farthest plan vertex in sight among the next few (else along the goal's
+        distance field, e.g. after being pushed off the path), instead of exactly along the
+        path vertex by vertex.
+    side_bias, yield_after, patience
+        Deterministic symmetry breaking and deadlock events, as in ``orca``
+        (:class:`~swarmpath.control.orca.coordination.Coordination`; 0 turns the first two off).
     """
 
-    def __init__(self, sidestep: float | None = None, separation: float = 0.25, max_waits: int = 2):
+    capabilities = Capabilities(needs_plan=True, continuous=True, multi_robot=True, moving_obstacles=True)
+
+    def __init__(self, sidestep: float | None = None, separation: float = 0.25, max_waits: int = 2,
+                 give_way: bool = False, safety: bool = True, safety_horizon: float = 1.0, guidance: bool = True,
+                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40):
         super().__init__(sidestep, separation)
         if isinstance(max_waits, bool) or not isinstance(max_waits, (int, np.integer)) or max_waits < 0:
             raise ConfigError(f"amopso-follow: max_waits must be an integer >= 0, got {max_waits!r}")
         self.max_waits = int(max_waits)
+        if not (isinstance(safety_horizon, (int, float)) and safety_horizon > 0):
+            raise ConfigError(f"amopso-follow: safety_horizon must be > 0 steps, got {safety_horizon!r}")
+        if not safety and not give_way:
+            raise ConfigError("amopso-follow: without the safety layer the follower must give way itself "
+                              "(give_way=True)")
+        Coordination(side_bias=side_bias, yield_after=yield_after, patience=patience)   # validates them
+        self.give_way = bool(give_way)
+        self.safety = bool(safety)
+        self.safety_horizon = float(safety_horizon)
+        self.guidance = bool(guidance)
+        self.side_bias = side_bias
+        self.yield_after = yield_after
+        self.patience = patience
+
+    def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
+        super().reset(world, plan, rng)
+        self.guidance_ = Guidance()
+        self.guidance_.reset(world, plan)
+        self.coordination_ = Coordination(side_bias=self.side_bias, yield_after=self.yield_after,
+                                          patience=self.patience)
+        self.coordination_.reset(world, self.guidance_)
+        self.layer_ = None
+        if self.safety:
+            self.layer_ = SafetyLayer(time_horizon=self.safety_horizon * world.dt)
+            self.layer_.reset(world)
+        self.guided_ = world.starts.copy()
+
+    def _aligned(self, i: int, p: FloatArray, budget: float) -> tuple[FloatArray, int]:
+        if self.guidance:
+            return self.guided_[i].copy(), int(self.next_[i])
+        return super()._aligned(i, p, budget)
+
+    def act(self, obs: Observation) -> Decision:
+        pos = np.asarray(obs.positions, float)
+        n = len(pos)
+        if n == 0:
+            return Decision(pos.copy(), [])
+        dt = float(obs.dt)
+        speeds = self.world_.max_speeds
+        if self.guidance:
+            target, is_goal = self.guidance_.targets(pos)
+            self.guided_ = pos + velocity_toward(pos, target, speeds, dt, is_goal) * dt
+        vertex = self.next_.copy()
+        routes = list(self.routes_)
+        if self.give_way:
+            base = super().act(obs)
+            sent = np.asarray(base.positions, float)
+            modes, events = list(base.modes), list(base.events)
+        else:
+            sent, modes, events = self._all_aligned(obs)
+        proposed = sent.copy()
+        pref = (proposed - pos) / dt
+        turned = self.coordination_.preferred(pos, pref)
+        planless = np.array([r is None for r in self.routes_], bool)     # stays put (and is avoided)
+        turned[planless] = pref[planless]
+        changed = np.any(turned != pref, axis=1)
+        proposed[changed] = pos[changed] + turned[changed] * dt
+        final = proposed
+        if self.layer_ is not None:
+            final, adjusted = self.layer_.safe_positions(obs, proposed, fixed=planless)
+            events.extend(self.layer_.events(adjusted))
+        if self.layer_ is not None:
+            self._track_vertices(final, sent, vertex, routes)
+        constrained = np.linalg.norm((final - pos) / dt - turned, axis=1) > 0.05 * np.maximum(speeds, 1e-12)
+        events.extend(self.coordination_.record(obs.step, final, constrained))
+        at_goal = np.linalg.norm(final - obs.goals, axis=1) <= 1e-9
+        modes = ["arrived" if at_goal[i] else ("wait" if not np.any(final[i] != pos[i]) else modes[i])
+                 for i in range(n)]
+        return Decision(final, modes, tuple(events))
+
+    def _all_aligned(self, obs: Observation) -> tuple[FloatArray, list[str], list[dict]]:
+        """Principle 1 for every robot at once (the layer resolves the conflicts)."""
+        pos = np.asarray(obs.positions, float)
+        new = pos.copy()
+        modes = ["follow"] * len(pos)
+        for i in range(len(pos)):
+            route = self.routes_[i]
+            if route is None or obs.at_goal[i] or int(self.next_[i]) >= len(route):
+                modes[i] = "arrived" if obs.at_goal[i] else ("no-plan" if route is None else "wait")
+                continue
+            new[i], self.next_[i] = self._aligned(i, pos[i], float(self.budget_[i]))
+        return new, modes, []
+
+    def _track_vertices(self, final: FloatArray, sent: FloatArray, vertex: NDArray[np.int64], routes: list) -> None:
+        """Keep each robot's next path vertex honest after the layer: a robot that did not
+        end where the follower sent it has not reached the vertex it was heading for (a side
+        step's new route starts at its own point, so it is kept); one within its radius (or a
+        quarter step) of a vertex before its last has passed it."""
+        off = np.any(final != sent, axis=1)
+        for i in np.flatnonzero(off):
+            if self.routes_[i] is routes[i]:
+                self.next_[i] = vertex[i]
+        for i, route in enumerate(self.routes_):
+            if route is None:
+                continue
+            tol = max(float(self.radii_[i]), 0.25 * float(self.budget_[i]))
+            for _ in range(len(route)):          # bounded by the route's length
+                k = int(self.next_[i])
+                if k >= len(route) - 1 or np.linalg.norm(route[k] - final[i]) > tol:
+                    break
+                self.next_[i] = k + 1
 
     def _give_way(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
                   budget: float, events: list[dict]) -> tuple[FloatArray, str]:
-        """A shorter move along the path; else wait, up to ``max_waits`` steps in a row; else
-        the best side step (principle 2); else wait."""
+        """A shorter move along the path (or toward the guidance's point); else wait, up to
+        ``max_waits`` steps in a row; else the best side step (principle 2); else wait."""
         route = self.routes_[i]
         a = pos[i]
         for frac in SLOWER:
-            p, k = advance_along(route, a, int(self.next_[i]), budget * frac)
+            if self.guidance:
+                p, k = a + frac * (aligned - a), int(self.next_[i])
+            else:
+                p, k = advance_along(route, a, int(self.next_[i]), budget * frac)
             if self._free(i, a, p, pos, new, decided):
                 self.next_[i] = k
                 return p, "slow"

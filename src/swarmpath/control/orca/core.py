@@ -33,7 +33,13 @@ from swarmpath.control.orca.halfplanes import (
     halfplane_below,
     orca_halfplanes_robots,
 )
-from swarmpath.control.orca.obstacles import ObstacleForecast, RedrawGuard, footprint_offsets
+from swarmpath.control.orca.making_way import make_way
+from swarmpath.control.orca.obstacles import (
+    ObstacleForecast,
+    RedrawGuard,
+    footprint_offsets,
+    teleports,
+)
 from swarmpath.control.orca.static_features import StaticFeatures, closest_on_segments
 from swarmpath.errors import ConfigError
 from swarmpath.world import geometry as g
@@ -142,6 +148,7 @@ class ORCASolver:
         self.step_len = self.speeds * self.dt
         self.tau = float(p.time_horizon)
         self.tau_static = max(float(p.obstacle_time_horizon), self.dt)
+        self.goals = world.goals
         n = world.n_robots
         # a static margin a robot can live with at its goal
         if n:
@@ -151,8 +158,7 @@ class ORCASolver:
             self.static_margin = np.zeros(0)
         self.points = self.radii == 0
         self.resolution = float(world.resolution)
-        self.redraw = RedrawGuard(world) if any(getattr(o.motion, "kind", "") == "redraw"
-                                                for o in world.moving_obstacles) else None
+        self.redraw = RedrawGuard(world) if any(teleports(o) for o in world.moving_obstacles) else None
         self.has_static = bool(len(world.obstacles) or world.static_map is not None)
         shapes = [o.shape for o in world.moving_obstacles]
         self.obstacle_is_circle = np.array([isinstance(sh, Circle) for sh in shapes], bool)
@@ -171,9 +177,10 @@ class ORCASolver:
         return np.where(both, np.sqrt(2.0) * self.resolution, rsum) + self.params.safety_margin
 
     # ------------------------------------------------------------------ lines
-    def lines(self, pos: FloatArray, vel: FloatArray, forecast: ObstacleForecast | None
-              ) -> tuple[FloatArray, IntArray, IntArray, IntArray]:
-        """Every robot's lines, packed (see :func:`kernels.pack_lines`)."""
+    def lines(self, pos: FloatArray, vel: FloatArray, forecast: ObstacleForecast | None,
+              fixed: BoolArray | None = None) -> tuple[FloatArray, IntArray, IntArray, IntArray]:
+        """Every robot's lines, packed (see :func:`kernels.pack_lines`). A neighbour that is
+        ``fixed`` (n,) (it will not move) leaves the whole avoidance to the other robot."""
         n = len(pos)
         p = self.params
         owners, pts, dirs, tiers = [], [], [], []
@@ -188,10 +195,14 @@ class ORCASolver:
         clearance = self.radii + self.static_margin
         # hard: static features and the workspace
         reach = clearance + self.speeds * self.tau_static + 1e-9
+        # a robot near its goal looks one step ahead only: with a longer horizon a goal close
+        # to a wall is approached by ever shorter steps and never reached
+        tau = np.where(np.linalg.norm(pos - self.goals, axis=1) <= self.speeds * self.tau_static, self.dt,
+                       self.tau_static) if n else np.zeros(0)
         owner, offset = self.features.closest(pos, reach)
-        add(owner, *clearance_halfplanes(offset, clearance[owner], self.tau_static, floor=0.0), 0)
-        owner, normal, room = self.features.bound_lines(pos, clearance, self.step_len)
-        add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / self.tau_static), 0)
+        add(owner, *clearance_halfplanes(offset, clearance[owner], tau[owner], floor=0.0), 0)
+        owner, normal, room = self.features.bound_lines(pos, clearance, self.step_len, reach - clearance)
+        add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / tau[owner]), 0)
         # moving obstacles: hard (this step's footprint), firm (next move), soft (ORCA)
         if forecast is not None and len(forecast.now):
             self._obstacle_lines(pos, vel, forecast, add)
@@ -199,8 +210,9 @@ class ORCASolver:
         if n > 1 and p.max_neighbours > 0:
             i, j = self.neighbours(pos)
             if len(i):
+                c = 0.5 if fixed is None else np.where(fixed[j], 1.0, 0.5)
                 lp_, ld_ = orca_halfplanes_robots(pos[j] - pos[i], vel[i] - vel[j], vel[i],
-                                                  self.combined_radius(i, j), self.tau, self.dt, 0.5)
+                                                  self.combined_radius(i, j), self.tau, self.dt, c)
                 add(i, lp_, ld_, 2)
         if owners:
             return kernels.pack_lines(np.concatenate(owners), np.concatenate(pts), np.concatenate(dirs),
@@ -247,21 +259,26 @@ class ORCASolver:
 
     # ------------------------------------------------------------------ velocities
     def velocities(self, pos: FloatArray, vel: FloatArray, preferred: FloatArray,
-                   forecast: ObstacleForecast | None) -> tuple[FloatArray, IntArray]:
+                   forecast: ObstacleForecast | None, fixed: BoolArray | None = None) -> tuple[FloatArray, IntArray]:
         """New velocities (n, 2) and LP statuses (n,) (0 all lines held, 1 robot lines
-        relaxed, 2 obstacle lines relaxed, 3 none possible)."""
-        lines, n_lines, n_hard, n_firm = self.lines(pos, vel, forecast)
-        return kernels.solve_lines(lines, n_lines, n_hard, n_firm, preferred, self.speeds)
+        relaxed, 2 obstacle lines relaxed, 3 none possible); ``fixed`` robots (n,) get 0."""
+        lines, n_lines, n_hard, n_firm = self.lines(pos, vel, forecast, fixed)
+        v, status = kernels.solve_lines(lines, n_lines, n_hard, n_firm, preferred, self.speeds)
+        if fixed is not None:
+            v[fixed] = 0.0
+        return v, status
 
     # ------------------------------------------------------------------ exact checks
     def static_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray) -> BoolArray:
         """Moves a -> b of robots ``rows`` that enter static geometry or leave the workspace
-        (the simulator's test, with a hair of slack)."""
+        (the simulator's test, with a hair of slack for discs: a point robot may stand on the
+        workspace's edge, where any slack would forbid every move)."""
         moved = np.any(a != b, axis=1)
         out = np.zeros(len(rows), bool)
         if moved.any():
             k = np.flatnonzero(moved)
-            out[k] = self.world.static_hits(a[k], b[k], self.radii[rows[k]] + CHECK_SLACK)
+            r = self.radii[rows[k]]
+            out[k] = self.world.static_hits(a[k], b[k], r + CHECK_SLACK * (r > 0))
         return out
 
     def obstacle_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray, fc: ObstacleForecast | None
@@ -303,14 +320,18 @@ class ORCASolver:
         depth = over.max(axis=1)
         return hard, depth > 0, depth
 
-    def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None) -> SafeMoves:
+    def make_safe(self, p0: FloatArray, p1: FloatArray, forecast: ObstacleForecast | None,
+                  fixed: BoolArray | None = None) -> SafeMoves:
         """The largest fraction in :data:`SCALES` of each move p0 -> p1 that passes the exact
         checks: static geometry and moving footprints always (a shorter piece of a safe move
         is safe, and standing still is), the next move of moving obstacles when some
         fraction can, then every pair of robots by the simulator's move rules
         (:func:`swarmpath.world.move_rules.move_conflicts`): both robots of a conflicting
         pair step down a fraction until no pair conflicts (at worst both stand, and two
-        standing robots never conflict). Every loop is bounded by the number of fractions."""
+        standing robots never conflict). Every loop is bounded by the number of fractions.
+        ``fixed`` robots (n,) stand still and are never moved to make way."""
+        if fixed is not None:
+            p1 = np.where(np.asarray(fixed, bool)[:, None], p0, p1)
         n = len(p0)
         scales = np.asarray(SCALES)
         last = len(scales) - 1
@@ -354,10 +375,24 @@ class ORCASolver:
                 exposed_or_stuck = exposed
         else:
             exposed_or_stuck = exposed
+        held = np.zeros(n, bool)
+        if forecast is not None and len(forecast.now):
+            # robots held still only by the obstacles' next moves (a moving fraction passes the
+            # hard checks; e.g. a slow robot between the cells a redraw obstacle may take)
+            # look for a sideways move that keeps clear and gets closer to a full step in the
+            # direction of their proposal
+            held = (first_ok == last) & (first_hard < last) & np.any(d != 0, axis=1)
+            exposed_or_stuck = exposed_or_stuck | held
+        if fixed is not None:
+            exposed_or_stuck = exposed_or_stuck & ~fixed
         if exposed_or_stuck.any() and forecast is not None:
             # the linearised lines can miss an escape: try a ring of moves exactly
             rows = np.flatnonzero(exposed_or_stuck)
-            ends, clear = self._escape(p0, p1, rows, forecast)
+            aim = p1.copy()
+            if held.any():
+                length = np.maximum(np.linalg.norm(d[held], axis=1), 1e-300)
+                aim[held] = p0[held] + d[held] * (self.step_len[held] / length)[:, None]
+            ends, clear = self._escape(p0, p1, rows, forecast, aim)
             p1 = p1.copy()
             p1[rows] = ends
             d = p1 - p0
@@ -368,15 +403,39 @@ class ORCASolver:
         out = p0 + s[:, None] * d
         full = level == 0
         out[full] = p1[full]
+        if forecast is not None and len(forecast.now) and len(p0) > 1:
+            # a robot that a neighbour's move cut short may now stand in an obstacle's next
+            # move: it looks again for a clear move, moving neighbours out of its way if need
+            # be (making_way.py)
+            soft = self._soft_unsafe(p0, out, np.arange(len(p0)), forecast)
+            rows = np.flatnonzero(soft & ~exposed & (True if fixed is None else ~fixed))
+            if len(rows):
+                out, freed, pushed = make_way(self, p0, p1, out, rows, forecast, fixed=fixed)
+                s = s.copy()
+                s[rows[freed]] = 1.0
+                s[pushed] = 0.0
+                exposed = exposed.copy()
+                exposed[rows[~freed]] = True
         return SafeMoves(out, s, exposed)
 
-    def _escape(self, p0: FloatArray, p1: FloatArray, rows: IntArray, fc: ObstacleForecast
-                ) -> tuple[FloatArray, BoolArray]:
+    def _soft_unsafe(self, a: FloatArray, b: FloatArray, rows: IntArray, fc: ObstacleForecast) -> BoolArray:
+        """Moves a -> b of robots ``rows`` whose end lies in an obstacle's next move (a redraw
+        jump included)."""
+        _, soft = self.obstacle_unsafe(a, b, rows, fc)
+        if self.redraw is not None:
+            soft = soft | self.redraw.danger(b, self.radii[rows] + CHECK_SLACK)
+        return soft
+
+    def _escape(self, p0: FloatArray, p1: FloatArray, rows: IntArray, fc: ObstacleForecast,
+                aim: FloatArray | None = None) -> tuple[FloatArray, BoolArray]:
         """For robots ``rows`` that no fraction of their move keeps clear of the obstacles'
-        next moves: among ``ESCAPE_DIRECTIONS`` directions at full and half step, standing
-        still and the move itself, the end position that passes every check and lies closest
-        to the proposed one, else the one (passing the hard checks) that enters the next
-        moves least. Returns the end positions (k, 2) and which of them are clear (k,)."""
+        next moves: among ``ESCAPE_DIRECTIONS`` directions at full and half step, the grid
+        cell centres within a step, standing still and the move itself, the end position that
+        passes every check and lies closest
+        to the proposed one (or to ``aim`` (n, 2) where given), else the one (passing the hard
+        checks) that enters the next moves least. Returns the end positions (k, 2) and which
+        of them are clear (k,)."""
+        aim = p1 if aim is None else aim
         k = len(rows)
         ang = 2 * np.pi * np.arange(ESCAPE_DIRECTIONS) / ESCAPE_DIRECTIONS
         ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
@@ -384,7 +443,8 @@ class ORCASolver:
         offsets = (frac[:, None, None] * ring[None]).reshape(-1, 2)                     # (c, 2)
         step = self.step_len[rows]
         cand = p0[rows][:, None, :] + offsets[None] * step[:, None, None]               # (k, c, 2)
-        cand = np.concatenate([p1[rows][:, None, :], p0[rows][:, None, :], cand], axis=1)
+        cand = np.concatenate([p1[rows][:, None, :], p0[rows][:, None, :], cand, self._cell_centres(p0[rows], step)],
+                              axis=1)
         c = cand.shape[1]
         flat_rows = np.repeat(rows, c)
         a = np.repeat(p0[rows], c, axis=0)
@@ -399,7 +459,7 @@ class ORCASolver:
         hard = hard.reshape(k, c)
         clear = ~hard & ~soft.reshape(k, c)
         depth = depth.reshape(k, c)
-        dist = np.linalg.norm(cand - p1[rows][:, None, :], axis=2)
+        dist = np.linalg.norm(cand - aim[rows][:, None, :], axis=2)
         viable = np.zeros((k, c), bool)
         if fc.next2 is not None and clear.any():
             kk, cc = np.nonzero(clear)
@@ -414,6 +474,19 @@ class ORCASolver:
         none = ~np.isfinite(score[pick, best])
         ends[none] = p1[rows][none]
         return ends, ok
+
+    def _cell_centres(self, pos: FloatArray, step: FloatArray) -> FloatArray:
+        """The centres of the grid cells around each position (k, 2), (k, c, 2), those out of
+        one step's reach replaced by the position itself: where a redraw obstacle cannot land
+        beside a robot, the spots a ring of directions may miss."""
+        res = self.resolution
+        span = int(np.ceil(float(step.max(initial=0.0)) / res)) if len(step) else 0
+        off = np.arange(-span, span + 1)
+        ox, oy = np.meshgrid(off, off, indexing="xy")
+        cells = np.floor(pos / res)[:, None, :] + np.stack([ox.ravel(), oy.ravel()], axis=1)[None]
+        centres = (cells + 0.5) * res
+        far = np.linalg.norm(centres - pos[:, None, :], axis=2) > step[:, None]
+        return np.where(far[..., None], pos[:, None, :], centres)
 
     def _viable(self, ends: FloatArray, rows: IntArray, fc: ObstacleForecast) -> BoolArray:
         """Whether from each end position (k, 2) of robots ``rows`` some move of the step

@@ -16,7 +16,8 @@
 4. else the free neighbouring cell of lowest field value (no visibility promised; the
    static half-planes of ORCA keep the robot safe regardless).
 
-Visibility is tested for the robot's radius plus ``clearance``. Robots whose goal cell is
+Visibility is tested for the robot's radius plus ``clearance`` (less when the goal itself is
+closer than that to an obstacle or the workspace's edge). Robots whose goal cell is
 blocked in the inflated grid use the grid without inflation. All loops are bounded by the
 window size; results depend only on the inputs (deterministic).
 """
@@ -65,6 +66,10 @@ class Guidance:
         n = world.n_robots
         self.goals_ = world.goals
         self.radii_ = world.radii
+        # the radius of the visibility tests: the robot's plus the clearance, but never more
+        # than its goal leaves (a goal on the workspace's edge must be visible)
+        room = world.static_clearance(world.goals, world.radii) if n else np.zeros(0)
+        self.seen_radius_ = self.radii_ + np.clip(room, 0.0, self.clearance)
         self.paths_: list[FloatArray | None] = [None] * n
         if plan is not None:
             for i, path in enumerate(list(plan.paths)[:n]):
@@ -92,8 +97,9 @@ class Guidance:
 
     def remaining(self, positions: FloatArray) -> FloatArray:
         """An estimate of each robot's remaining path length (world units): the distance
-        field at its cell plus the distance to that cell's centre, or the straight distance
-        in open worlds; used to detect lack of progress."""
+        field at its cell plus the distance to that cell's centre, less the goal's own distance
+        to its cell's centre, and never less than the straight distance (so it is 0 exactly at
+        the goal); the straight distance in open worlds. Used to detect lack of progress."""
         pos = np.asarray(positions, float)
         straight = np.linalg.norm(pos - self.goals_, axis=1)
         if self.open_:
@@ -106,7 +112,9 @@ class Guidance:
             grid, field = f
             c = grid.cell_of(pos[i])
             if grid.contains_cells(c) and np.isfinite(field[c[1], c[0]]):
-                out[i] = field[c[1], c[0]] * grid.resolution + float(np.linalg.norm(grid.centers(c) - pos[i]))
+                offset = float(np.linalg.norm(grid.centers(grid.cell_of(self.goals_[i])) - self.goals_[i]))
+                along = field[c[1], c[0]] * grid.resolution + float(np.linalg.norm(grid.centers(c) - pos[i])) - offset
+                out[i] = max(float(straight[i]), along)
         return out
 
     # ------------------------------------------------------------------ targets
@@ -119,7 +127,7 @@ class Guidance:
             return np.zeros((0, 2)), np.zeros(0, bool)
         if self.open_:
             return goal.copy(), np.ones(n, bool)
-        r = self.radii_ + self.clearance
+        r = self.seen_radius_
         at_goal = np.linalg.norm(pos - goal, axis=1) <= 1e-9
         direct = at_goal.copy()
         rest = np.flatnonzero(~at_goal)

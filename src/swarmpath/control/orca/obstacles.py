@@ -12,9 +12,10 @@ The simulator moves obstacles first and robots second in every step (see
   goal: :class:`RedrawGuard` tells which end positions such a jump could hit.
 
 :func:`forecast_obstacles` gives this forecast for every obstacle. The worst case per motion
-model lives in one private function, :func:`_worst_case_next`, meant to be swapped for the
-motion-model registry's own worst-case reach once it exists. Rectangular footprints are
-treated exactly for phase 2 and as their bounding disc (radius ``extent``) for phase 1.
+model lives in one private function, :func:`_worst_case_next`, which reads the motion-model
+registry's own declarations (``max_step``, ``teleports``, ``forecast``), so a new model is
+handled safely (its whole reach disc) without code here. Rectangular footprints are treated
+exactly for phase 2 and as their bounding disc (radius ``extent``) for phase 1.
 """
 from __future__ import annotations
 
@@ -28,8 +29,14 @@ from swarmpath.world.shapes import Circle
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
-#: Motion models (``obstacle.motion.kind``) whose next position is a random jump.
-JUMPING = ("redraw",)
+#: Motion models (``obstacle.motion.kind``) that keep their heading between known events
+#: (a bounce, a turning step, a route corner): their next move may be predicted as straight on.
+STRAIGHT = ("bounce", "bounce8", "turn-every", "waypoints")
+
+
+def teleports(ob) -> bool:
+    """Whether obstacle ``ob``'s motion model jumps instead of travelling (``redraw``)."""
+    return bool(getattr(ob.motion, "teleports", False))
 
 
 @dataclass(frozen=True)
@@ -59,25 +66,29 @@ class ObstacleForecast:
 def _worst_case_next(ob, world, now: FloatArray, prev: FloatArray, step: int, dt: float
                      ) -> tuple[FloatArray, float]:
     """(end of the next sweep, extra reach) of obstacle ``ob`` seen at ``now`` after moving
-    from ``prev`` at observation step ``step``.
+    from ``prev`` at observation ``step``.
 
-    A constant-velocity move continues when the motion model keeps its heading next step
-    and the continued footprint fits (no bounce); otherwise the whole disc of one step's
-    travel around ``now`` is kept clear. Speeds are the motion model's: ``bounce``,
-    ``bounce8``, ``turn-every`` and ``waypoints`` keep ``ob.speed``; ``random-walk`` moves one
-    of 8 grid directions, up to sqrt(2) times its speed (the world's resolution when 0).
+    The reach is the motion model's own worst case (``ob.max_step``: ``speed * dt`` for the
+    travelling models, ``sqrt(2)`` times the step length for ``random-walk``). A straight
+    move continues only for the models known to keep their heading (``bounce``,
+    ``bounce8``, ``turn-every`` between turning steps, ``waypoints`` on a straight leg), when
+    the obstacle moved exactly one step last time and the continued footprint fits (no
+    bounce); otherwise, and for every other model (``forecast`` "random-walk" or
+    "any-heading", e.g. ``orbit``), the whole disc of one step's reach around ``now`` is
+    kept clear. Teleporting models are not handled here (see :class:`RedrawGuard`).
     """
     kind = getattr(ob.motion, "kind", "")
+    reach = float(ob.max_step(dt, float(world.resolution)))
+    if kind not in STRAIGHT or getattr(ob.motion, "forecast", "any-heading") == "random-walk":
+        return now.copy(), reach
     speed = float(ob.speed)
-    if kind == "random-walk":
-        return now.copy(), float(np.sqrt(2.0)) * (speed or float(world.resolution)) * dt
     if speed == 0.0:
         return now.copy(), 0.0
-    reach = speed * dt
     if kind == "turn-every" and (step + 1) % max(1, int(ob.motion.period)) == 0:
         return now.copy(), reach
     moved = now - prev
-    if abs(float(np.hypot(*moved)) - reach) > 1e-9 * max(1.0, reach):
+    one = speed * dt
+    if abs(float(np.hypot(*moved)) - one) > 1e-9 * max(1.0, one):
         return now.copy(), reach                     # stopped or turned last step: heading unknown
     cand = now + moved
     if kind == "waypoints" and not _on_straight_leg(ob, now, moved):
@@ -112,7 +123,7 @@ def forecast_obstacles(world, now: FloatArray, prev: FloatArray, step: int, dt: 
     jumping = np.zeros(m, bool)
     extent = np.array([ob.extent for ob in world.moving_obstacles], float).reshape(m)
     for j, ob in enumerate(world.moving_obstacles):
-        if getattr(ob.motion, "kind", "") in JUMPING:
+        if teleports(ob):
             jumping[j] = True
             continue
         nxt[j], reach[j] = _worst_case_next(ob, world, now[j], prev[j], step, dt)
@@ -155,7 +166,10 @@ class RedrawGuard:
     grid where its footprint fits, except cells holding a robot (after this step's moves) or
     a robot's goal, as the simulator draws them (:mod:`swarmpath.world.moving`).
 
-    :meth:`danger` says which robot end positions such an appearance would touch."""
+    :meth:`danger` says which robot end positions such an appearance would touch. A
+    teleporting obstacle that may land on robots (``redraw`` with ``avoid_robots: false``,
+    the paper's uniform redraw) can hit a robot wherever it stands: no end position is safer
+    than another, so it is left out (its hits are counted, not avoided)."""
 
     def __init__(self, world):
         self.world = world
@@ -167,7 +181,7 @@ class RedrawGuard:
         centres = grid.centers(cells)
         self.fits: dict[int, NDArray[np.bool_]] = {}
         for j, ob in enumerate(world.moving_obstacles):
-            if getattr(ob.motion, "kind", "") in JUMPING:
+            if teleports(ob) and getattr(ob.motion, "avoid_robots", True):
                 self.fits[j] = (~grid.blocked) & world.obstacle_fits(ob, centres).reshape(h, w)
         self.goal_cells = grid.cell_of(world.goals) if world.n_robots else np.zeros((0, 2), np.int64)
 

@@ -5,8 +5,8 @@ polygons become their edges (segments), a raster map (MovingAI) becomes the edge
 blocked and free cells, merged into maximal straight runs (so a robot sliding along a wall
 sees one segment, not a row of cell corners), and a rectangular workspace becomes its four
 sides. A robot outside all pieces that keeps its swept disc off every piece never enters an
-obstacle: it would have to cross the boundary first. A circular workspace is handled apart
-(:meth:`StaticFeatures.bound_lines`).
+obstacle: it would have to cross the boundary first. The workspace's edge (rectangular or
+circular) is handled apart, with its known normals (:meth:`StaticFeatures.bound_lines`).
 
 For each robot :meth:`StaticFeatures.closest` returns the vector to the closest point of
 every piece within reach; :func:`~swarmpath.control.orca.halfplanes.clearance_halfplanes`
@@ -85,10 +85,6 @@ class StaticFeatures:
                 segs.append(np.stack([a, b], axis=1))
         if world.static_map is not None:
             segs.append(raster_boundary_segments(world.static_map.blocked, world.static_map.cell_size))
-        if isinstance(self.bounds, RectBounds):
-            w, h = self.bounds.width, self.bounds.height
-            corners = np.array([[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]])
-            segs.append(np.stack([corners, np.roll(corners, -1, axis=0)], axis=1))
         self.centers = np.array([c.center for c in circles], float).reshape(-1, 2)
         self.rho = np.array([c.radius for c in circles], float)
         self.lo = np.array([r.min for r in rects], float).reshape(-1, 2)
@@ -166,24 +162,38 @@ class StaticFeatures:
         hit = np.flatnonzero(d == 0)
         return hit.astype(np.int64), self._parent[k[hit]].astype(np.int64)
 
-    def bound_lines(self, positions: FloatArray, clearance: FloatArray, step: FloatArray
-                    ) -> tuple[IntArray, FloatArray, FloatArray]:
-        """For a circular workspace: the inner half-plane ``(x - c) . u <= h`` with ``u`` the
-        outward direction at the robot and ``h = sqrt(R'^2 - s^2)``, R' = R - clearance, s
-        the robot's step: every point of the half-plane within ``s`` of the robot lies in the
-        disc of radius R'. Returns (owner, normal u (e, 2), distance h - (p - c) . u) for
-        robots within ``2 s`` of the rim; empty for a rectangular workspace (its sides are
-        segments)."""
+    def bound_lines(self, positions: FloatArray, clearance: FloatArray, step: FloatArray,
+                    reach: FloatArray | None = None) -> tuple[IntArray, FloatArray, FloatArray]:
+        """The workspace's edge as half-planes ``v . u <= room / tau`` with ``u`` an outward
+        normal: returns (owner, normal u (e, 2), room (e,)) for robots near the edge.
+
+        A rectangular workspace gives its sides (bottom, right, top, left), each with its
+        own normal, for robots within ``clearance + reach`` of it (default ``reach``: two
+        steps; room: the distance to the
+        side less the clearance); a robot standing on a side (a point robot may) keeps the
+        side's normal, which a closest-point offset of length 0 could not give. A circular
+        workspace gives the inner half-plane ``(x - c) . u <= h``, ``u`` the outward direction
+        at the robot and ``h = sqrt(R'^2 - s^2)``, R' = R - clearance, s the robot's step:
+        every point of the half-plane within ``s`` of the robot lies in the disc of radius R'
+        (room: ``h - (p - c) . u``), for robots within ``2 s`` of the rim."""
+        pos = np.asarray(positions, float).reshape(-1, 2)
+        clearance = np.broadcast_to(np.asarray(clearance, float), (len(pos),))
+        s = np.broadcast_to(np.asarray(step, float), (len(pos),))
+        if isinstance(self.bounds, RectBounds):
+            w, h = self.bounds.width, self.bounds.height
+            gaps = np.stack([pos[:, 1], w - pos[:, 0], h - pos[:, 1], pos[:, 0]], axis=1)       # (n, 4)
+            normals = np.array([[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])
+            near = 2 * s if reach is None else np.broadcast_to(np.asarray(reach, float), (len(pos),))
+            i, k = np.nonzero(gaps <= (clearance + near)[:, None] + 1e-9)
+            return i.astype(np.int64), normals[k], gaps[i, k] - clearance[i]
         if not isinstance(self.bounds, CircleBounds):
             return np.zeros(0, np.int64), np.zeros((0, 2)), np.zeros(0)
-        pos = np.asarray(positions, float).reshape(-1, 2)
         c = np.asarray(self.bounds.center, float)
         rel = pos - c
         d = np.linalg.norm(rel, axis=1)
-        r_in = self.bounds.radius - np.asarray(clearance, float)
-        s = np.asarray(step, float)
+        r_in = self.bounds.radius - clearance
         h = np.sqrt(np.maximum(r_in * r_in - s * s, 0.0))
         near = np.flatnonzero(d > r_in - 2 * s - 1e-12)
         u = rel[near] / np.maximum(d[near], 1e-12)[:, None]
         u[d[near] <= 1e-12] = [1.0, 0.0]
-        return near.astype(np.int64), u, (h[near] if h.ndim else np.full(len(near), h)) - d[near]
+        return near.astype(np.int64), u, h[near] - d[near]

@@ -54,6 +54,9 @@ from numpy.typing import NDArray
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.observation import Observation
+from swarmpath.control.orca.coordination import Coordination
+from swarmpath.control.orca.guidance import Guidance, velocity_toward
+from swarmpath.control.orca.safety import SafetyLayer
 from swarmpath.control.pso_predictive import prediction as pred
 from swarmpath.control.pso_predictive.step_problem import StepProblem, Weights, objective
 from swarmpath.control.pso_predictive.step_solver import SwarmSettings, solve_step
@@ -90,6 +93,23 @@ class PredictivePSOController(Controller):
     turn_guard : "learned" (keep the obstacle's whole one-step reach clear when it may turn:
         period not yet learnt, turning step, or impossible prediction), "always", or "never"
         (the paper's pure linear prediction)
+    safety : put the ORCA safety layer (:class:`~swarmpath.control.orca.SafetyLayer`) after
+        the swarm: the chosen positions become the closest safe ones (our addition; the
+        predictive controller's layer sees the obstacles' forecast next moves, the reactive
+        one's sees them standing)
+    safety_horizon : the layer's time horizon for robots and moving obstacles, in steps (1:
+        it keeps the next step safe and leaves anticipation to the swarm's own terms; ORCA's
+        usual 4 steps overrule the swarm's choice whenever a neighbour is within reach of the
+        next 4 steps)
+    guidance : steer along the offline plan, or without one along the goal's distance field
+        (:class:`~swarmpath.control.orca.Guidance`): eq. 3's goal becomes the steering point
+        (the goal itself when it is in sight; our addition: a straight-line distance leaves
+        robots in front of walls, doors and maze corridors)
+    side_bias, yield_after, patience : deterministic symmetry breaking and deadlock events
+        (:class:`~swarmpath.control.orca.coordination.Coordination`): a robot constrained last
+        step turns its steering direction right by ``side_bias`` radians (0 = off); robots
+        stalled ``yield_after`` steps back away from a stalled robot of smaller index (0 =
+        off); a robot without progress for ``patience`` steps gives a ``deadlock`` event
     weights, swarm : :class:`Weights` and :class:`SwarmSettings`
     """
 
@@ -98,7 +118,9 @@ class PredictivePSOController(Controller):
 
     def __init__(self, *, sensing_factor: float = 3.0, eps: float = 0.05, obstacle_margin: float = 0.05,
                  turn_guard: str = "learned", buffer_steps: int = 2, stuck_steps: int = 10,
-                 detour_reach: float = 6.0, yield_reach: float = 2.0, weights: Weights | None = None,
+                 detour_reach: float = 6.0, yield_reach: float = 2.0, safety: bool = True,
+                 safety_horizon: float = 1.0, guidance: bool = True,
+                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, weights: Weights | None = None,
                  swarm: SwarmSettings | None = None):
         if not sensing_factor > 1:
             raise ConfigError(f"sensing_factor must be > 1 (the paper's n), got {sensing_factor}")
@@ -120,6 +142,15 @@ class PredictivePSOController(Controller):
             raise ConfigError(f"yield_reach must be >= 0, got {yield_reach}")
         self.yield_reach = yield_reach
         self.detour_reach = detour_reach
+        self.safety = bool(safety)
+        if not safety_horizon > 0:
+            raise ConfigError(f"safety_horizon must be > 0 steps, got {safety_horizon}")
+        self.safety_horizon = safety_horizon
+        self.guidance = bool(guidance)
+        Coordination(side_bias=side_bias, yield_after=yield_after, patience=patience)   # validates them
+        self.side_bias = side_bias
+        self.yield_after = yield_after
+        self.patience = patience
         self.weights = weights or Weights()
         self.swarm = swarm or SwarmSettings()
         if self.swarm.n_particles < 1 or self.swarm.n_iterations < 1:
@@ -143,6 +174,9 @@ class PredictivePSOController(Controller):
         reach_pair = self.reach_[:, None] + self.reach_[None, :]
         self.kin_range_ = np.maximum(self.sensing_factor * rsum, self.separation_ + reach_pair + self.eps)
         self.extent_ = np.array([ob.extent for ob in world.moving_obstacles], float)
+        # each obstacle's worst-case travel per step by its motion model (inf: it teleports)
+        self.obstacle_step_ = np.array([ob.max_step(world.dt, world.resolution) for ob in world.moving_obstacles],
+                                       float)
         self.previous_positions_ = world.starts.copy()
         self.best_gap_ = np.linalg.norm(world.starts - self.goals_, axis=1)
         self.stalled_ = np.zeros(n, dtype=np.int64)
@@ -151,6 +185,17 @@ class PredictivePSOController(Controller):
         self.pressed_ = np.zeros(n, dtype=bool)
         self.track_ = pred.ObstacleTrack()
         self.eye_ = np.eye(n, dtype=bool)
+        # guidance along the plan or the distance field (also measures progress for deadlocks)
+        self.guidance_ = Guidance()
+        self.guidance_.reset(world, plan if self.guidance else None)
+        self.coordination_ = Coordination(side_bias=self.side_bias, yield_after=self.yield_after,
+                                          patience=self.patience)
+        self.coordination_.reset(world, self.guidance_)
+        self.layer_ = None
+        if self.safety:
+            self.layer_ = SafetyLayer(time_horizon=self.safety_horizon * world.dt,
+                                      obstacles="forecast" if self.predictive else "standing")
+            self.layer_.reset(world)
 
     def _obstacle_terms(self, obs) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         """(sweep end, inverse-distance target, guard radius, buffered path end, buffer) of
@@ -164,19 +209,28 @@ class PredictivePSOController(Controller):
         dt_s = self.track_.sampling_times(obs.dt)
         predicted = np.stack([pred.predict_linear(prev[j:j + 1], now[j:j + 1], obs.dt, dt_s[j])[0]
                               for j in range(len(now))]) if len(now) else now
+        # a jump is not a velocity: an obstacle whose model teleports (redraw), or whose last
+        # move was longer than its model's reach, is not extrapolated (it was: a redraw of 8
+        # units became a keep-out disc of 8 units that no move could clear)
+        jumps = ~np.isfinite(self.obstacle_step_) | \
+            (np.linalg.norm(now - prev, axis=1) > self.obstacle_step_ * (1 + 1e-9) + 1e-12)
+        predicted = np.where(jumps[:, None], now, predicted)
         possible = np.array([bool(self.world_.obstacle_fits(ob, predicted[j:j + 1])[0])
                              for j, ob in enumerate(self.world_.moving_obstacles)], bool)
         self.track_ = pred.with_linear_possible(self.track_, possible)
         speed = np.linalg.norm(predicted - now, axis=1)
+        # a turning or bouncing obstacle stays within its model's reach of `now` (random-walk:
+        # a diagonal grid step); a jumping one gets no guard (it stands for phase 2 only)
+        reach = np.where(jumps, 0.0, self.obstacle_step_)
         if self.turn_guard == "never":
             guard = np.zeros(len(now))
         elif self.turn_guard == "always":
-            guard = speed
+            guard = np.maximum(speed, reach)
         else:
             periods = self.track_.periods()
             uncertain = np.array([not possible[j] or pred.turn_expected(obs.step + 1, self.track_.turn_steps[j],
                                                                         periods[j]) for j in range(len(now))], bool)
-            guard = np.where(uncertain, speed, 0.0)
+            guard = np.where(uncertain, np.maximum(speed, reach), 0.0)
         # a turning or bouncing obstacle keeps its speed: it stays within `speed` of `now`
         sweep_end = np.where((guard > 0)[:, None], now, predicted)
         path_end = now + self.buffer_steps * (predicted - now)
@@ -192,10 +246,12 @@ class PredictivePSOController(Controller):
             out |= problem.obstacle_mask[:, j] & (d < problem.obstacle_clear[:, j] + problem.buffer[j])
         return out
 
-    def _targets(self, pos: FloatArray, events: list) -> FloatArray:
+    def _targets(self, pos: FloatArray, events: list, heading: FloatArray | None = None) -> FloatArray:
         """Each robot's goal, or its detour waypoint while it is taking a detour (updates the
-        stall counters; appends "detour" events)."""
-        gap = np.linalg.norm(pos - self.goals_, axis=1)
+        stall counters; appends "detour" events). Progress is the straight distance to the
+        goal, or with ``guidance`` the guidance's remaining length; a detour turns away from
+        ``heading`` (n, 2) (default: the goals)."""
+        gap = self.guidance_.remaining(pos) if self.guidance else np.linalg.norm(pos - self.goals_, axis=1)
         improved = gap < self.best_gap_ - 0.25 * self.reach_
         self.best_gap_ = np.where(improved, gap, self.best_gap_)
         self.stalled_ = np.where(improved | (gap <= 1e-9), 0, self.stalled_ + 1)
@@ -208,16 +264,17 @@ class PredictivePSOController(Controller):
         self.best_gap_ = np.where(done, gap, self.best_gap_)
         self.stalled_[done] = 0
         for i in np.flatnonzero(np.isnan(self.detour_[:, 0]) & (self.stalled_ >= self.stuck_steps)):
-            self.detour_[i] = self._waypoint(pos[i], i)
+            self.detour_[i] = self._waypoint(pos[i], i, self.goals_[i] if heading is None else heading[i])
             self.detour_left_[i] = self.stuck_steps
             self.stalled_[i] = 0
             events.append({"robot": int(i), "kind": "detour", "detail": f"to {np.round(self.detour_[i], 3).tolist()}"})
         return np.where(np.isnan(self.detour_), self.goals_, self.detour_)
 
-    def _waypoint(self, p: FloatArray, i: int) -> FloatArray:
-        """A point ``detour_reach`` steps of travel to a random side of robot i's goal
-        direction (the other side, or straight back, when that one is not free)."""
-        d = self.goals_[i] - p
+    def _waypoint(self, p: FloatArray, i: int, toward: FloatArray) -> FloatArray:
+        """A point ``detour_reach`` steps of travel to a random side of the direction from
+        robot i to ``toward`` (its goal or steering point; the other side, or straight back,
+        when that one is not free)."""
+        d = toward - p
         d = d / max(float(np.linalg.norm(d)), 1e-12)
         side = 1.0 if self.rng_.random() < 0.5 else -1.0
         length = self.detour_reach * self.reach_[i]
@@ -261,7 +318,37 @@ class PredictivePSOController(Controller):
                            pair_room=self.separation_[pair_row, pair_other] + extra[pair_other], obstacle_now=now,
                            obstacle_next=sweep_end, obstacle_target=target, guard=guard,
                            path_end=path_end, buffer=buffer,
-                           obstacle_clear=clear, obstacle_mask=obstacle_mask, static_near=static_near)
+                           obstacle_clear=clear, obstacle_mask=obstacle_mask, static_near=static_near,
+                           obstacle_jumps=~np.isfinite(self.obstacle_step_))
+
+    def _steering(self, pos: FloatArray, events: list) -> tuple[FloatArray, FloatArray]:
+        """Each robot's steering point for eq. 3 (n, 2) and its preferred velocity (n, 2).
+
+        The point is the goal, or with ``guidance`` the guidance's steering point (the goal
+        when in sight, else a visible plan vertex or distance-field cell); a detour waypoint
+        replaces it while the robot takes a detour. The coordination's side preference and
+        yielding turn it about the robot (same distance, at least one step)."""
+        if self.guidance:
+            target, is_goal = self.guidance_.targets(pos)
+        else:
+            target, is_goal = self.goals_.copy(), np.ones(len(pos), bool)
+        detour = self._targets(pos, events, target)
+        on_detour = ~np.isnan(self.detour_[:, 0])
+        target = np.where(on_detour[:, None], detour, target)
+        is_goal &= ~on_detour
+        pref = velocity_toward(pos, target, self.world_.max_speeds, self.world_.dt, is_goal)
+        turned = self.coordination_.preferred(pos, pref)
+        dist = np.linalg.norm(target - pos, axis=1)
+        # a robot one step from its goal lands on it (nothing to break there; a parked robot
+        # may still be asked to back away, and a stalled one to yield)
+        landing = is_goal & (dist > 1e-9) & (dist <= self.reach_) & ~self.coordination_.stalled
+        turned[landing] = pref[landing]
+        changed = np.any(turned != pref, axis=1)
+        if changed.any():
+            length = np.where(dist > 1e-9, dist, self.reach_)     # a parked robot backs away one step
+            unit = turned / np.maximum(np.linalg.norm(turned, axis=1), 1e-300)[:, None]
+            target = np.where(changed[:, None], pos + unit * length[:, None], target)
+        return target, turned
 
     def act(self, obs: Observation) -> Decision:
         pos = np.asarray(obs.positions, float)
@@ -269,7 +356,7 @@ class PredictivePSOController(Controller):
         if n == 0:
             return Decision(pos.copy(), [])
         events: list[dict] = []
-        targets = self._targets(pos, events)
+        targets, pref = self._steering(pos, events)
         problem = self._problem(obs, targets)
         static = self.static_
         if isinstance(static, StaticGeometry):
@@ -295,10 +382,17 @@ class PredictivePSOController(Controller):
         self.pressed_ = (violation > 0) | self._near_path(final, problem)
         for i in np.flatnonzero(violation > 0):
             events.append({"robot": int(i), "kind": "no_safe_move", "detail": f"violation {violation[i]:.3g}"})
+        adjusted = np.zeros(n, bool)
+        if self.layer_ is not None:
+            final, adjusted = self.layer_.safe_positions(obs, final)
+            events.extend(self.layer_.events(adjusted))
+        speeds = np.maximum(self.world_.max_speeds, 1e-12)
+        constrained = np.linalg.norm((final - pos) / obs.dt - pref, axis=1) > 0.05 * speeds
+        events.extend(self.coordination_.record(obs.step, final, constrained))
         self.previous_positions_ = pos.copy()
         at_goal = np.linalg.norm(final - self.goals_, axis=1) <= 1e-9
         moved = np.any(final != pos, axis=1)
-        avoiding = problem.obstacle_mask.any(axis=1)
+        avoiding = problem.obstacle_mask.any(axis=1) | adjusted
         detour = ~np.isnan(self.detour_[:, 0])
         modes = ["arrived" if at_goal[i] else ("wait" if not moved[i] else
                                                ("avoid" if avoiding[i] else ("detour" if detour[i] else "seek")))

@@ -16,6 +16,12 @@ from swarmpath.world.move_rules import swept_gap
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
+#: Violation counted for a move whose swept disc touches a static obstacle or leaves the
+#: workspace: more than any sum of robot and moving-obstacle depths (each at most a few contact
+#: distances), so a swarm never trades a wall for room from an obstacle. Standing still never
+#: hits (a robot starts in free space), so some candidate is always free of it.
+STATIC_HIT = 1e6
+
 
 @dataclass(frozen=True)
 class StepProblem:
@@ -38,6 +44,9 @@ class StepProblem:
     obstacle_clear : (k, m) required centre distance R_m + r_i + margin; obstacle_mask (k, m)
     static_near : (k,) False when no move within reach can come near a static obstacle or the
         boundary (then the static terms are 0 and are not computed)
+    obstacle_jumps : (m,) obstacles that teleport (redraw): where one stands now says nothing
+        of where it will be, so only the hard constraint of this step (it stands during the
+        robot's move) applies to it, not eq. 7 (None: none teleports)
     """
 
     start: FloatArray
@@ -61,6 +70,7 @@ class StepProblem:
     obstacle_clear: FloatArray
     obstacle_mask: BoolArray
     static_near: BoolArray
+    obstacle_jumps: BoolArray | None = None
 
     def rows(self, idx) -> "StepProblem":
         """The problem of a subset of the rows (obstacle arrays are shared)."""
@@ -102,8 +112,8 @@ class Weights:
 
 
 def hard_violation(problem: StepProblem, world, x_next: FloatArray) -> FloatArray:
-    """Total depth (world units) by which each candidate breaks the hard constraints, plus 1
-    for a static hit; 0 = acceptable. x_next (k, p, 2) -> (k, p).
+    """Total depth (world units) by which each candidate breaks the hard constraints, plus
+    :data:`STATIC_HIT` for a static hit; 0 = acceptable. x_next (k, p, 2) -> (k, p).
 
     ``world`` is anything with ``static_hits(a, b, radius)`` (a :class:`~swarmpath.world.World`
     or :class:`StaticGeometry`)."""
@@ -140,7 +150,7 @@ def hard_violation(problem: StepProblem, world, x_next: FloatArray) -> FloatArra
         hits = np.zeros(len(a), bool)
         if moved.any():
             hits[moved] = world.static_hits(a[moved], b[moved], r[moved] + 1e-6)
-        total[near] += hits.reshape(len(near), p)
+        total[near] += STATIC_HIT * hits.reshape(len(near), p)
     return total
 
 
@@ -151,9 +161,10 @@ def objective(problem: StepProblem, world, x_next: FloatArray, weights: Weights)
     if len(problem.pair_row):
         cost = cost + weights.kin * kin_penalty(x_next, problem.pair_row, problem.pair_announced,
                                                 problem.pair_room)
-    if problem.obstacle_mask.any():
-        cost = cost + weights.moving * inverse_obstacle_distance(x_next, problem.obstacle_target,
-                                                                 problem.obstacle_mask)
+    sensed = problem.obstacle_mask if problem.obstacle_jumps is None else \
+        problem.obstacle_mask & ~problem.obstacle_jumps[None, :]
+    if sensed.any():
+        cost = cost + weights.moving * inverse_obstacle_distance(x_next, problem.obstacle_target, sensed)
     if weights.buffer > 0:
         for j in np.flatnonzero(problem.buffer > 0):
             rows = np.flatnonzero(problem.obstacle_mask[:, j])
@@ -162,11 +173,12 @@ def objective(problem: StepProblem, world, x_next: FloatArray, weights: Weights)
                     x_next[rows], problem.obstacle_now[j], problem.path_end[j], problem.obstacle_clear[rows, j],
                     problem.buffer[j])
     near = np.flatnonzero(problem.static_near)
-    if len(near):
+    if len(near) and (weights.static > 0 or weights.line_of_sight > 0):
         flat = x_next[near].reshape(-1, 2)
         radius = np.repeat(problem.radius[near], p)
-        clear = world.static_clearance(flat, radius).reshape(len(near), p)
-        cost[near] += weights.static * static_clearance_penalty(clear, weights.static_margin)
+        if weights.static > 0:
+            clear = world.static_clearance(flat, radius).reshape(len(near), p)
+            cost[near] += weights.static * static_clearance_penalty(clear, weights.static_margin)
         if weights.line_of_sight > 0:
             blocked = world.static_hits(flat, np.repeat(problem.goal[near], p, axis=0), radius)
             cost[near] += weights.line_of_sight * blocked.reshape(len(near), p)
