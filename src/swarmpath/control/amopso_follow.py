@@ -43,6 +43,7 @@ safe move, so moving obstacles of every motion model are avoided too.
 """
 from __future__ import annotations
 
+import abc
 import math
 
 import numpy as np
@@ -182,10 +183,10 @@ class PathFollowing(Controller):
         its path from ``p``, and the index of the next path vertex still ahead."""
         return advance_along(self.routes_[i], p, int(self.next_[i]), budget)
 
+    @abc.abstractmethod
     def _give_way(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
                   budget: float, events: list[dict]) -> tuple[FloatArray, str]:
         """Robot i's move when the aligned one conflicts: (position, mode)."""
-        raise NotImplementedError
 
     def _side_step(self, i: int, pos: FloatArray, new: FloatArray, decided: NDArray[np.bool_], aligned: FloatArray,
                    budget: float, events: list[dict]) -> tuple[FloatArray, str]:

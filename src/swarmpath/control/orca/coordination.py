@@ -26,7 +26,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from swarmpath.control.orca.guidance import Guidance
 from swarmpath.errors import ConfigError
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -70,7 +72,7 @@ class Coordination:
         self.margin = margin
 
     # ------------------------------------------------------------------ run state
-    def reset(self, world, guidance) -> None:
+    def reset(self, world: World, guidance: Guidance) -> None:
         """Prepare a run of ``world``; ``guidance`` (a reset
         :class:`~swarmpath.control.orca.guidance.Guidance`) measures progress."""
         self.guidance_ = guidance

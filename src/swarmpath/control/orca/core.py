@@ -45,6 +45,7 @@ from swarmpath.errors import ConfigError
 from swarmpath.world import geometry as g
 from swarmpath.world.move_rules import NO_CONFLICT, move_conflicts
 from swarmpath.world.shapes import Circle
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -137,7 +138,7 @@ class ORCASolver:
     def __init__(self, params: ORCAParams | None = None):
         self.params = params or ORCAParams()
 
-    def reset(self, world) -> None:
+    def reset(self, world: World) -> None:
         """Precompute the world's static features, radii, speeds and margins."""
         p = self.params
         self.world = world

@@ -27,7 +27,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.errors import ConfigError
+from swarmpath.planning.base import Plan
 from swarmpath.search import distance_field
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -60,7 +62,7 @@ class Guidance:
         self.straight_weight = straight_weight
 
     # ------------------------------------------------------------------ run state
-    def reset(self, world, plan=None) -> None:
+    def reset(self, world: World, plan: Plan | None = None) -> None:
         """Prepare a run of ``world`` with the offline ``plan`` (or None)."""
         self.world_ = world
         n = world.n_robots

@@ -30,6 +30,7 @@ from swarmpath.control.observation import Observation
 from swarmpath.control.orca.core import ORCAParams, ORCASolver, tidy_moves
 from swarmpath.control.orca.obstacles import ObstacleForecast, forecast_obstacles
 from swarmpath.errors import ConfigError
+from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -74,7 +75,7 @@ class SafetyLayer:
             raise ConfigError(f"SafetyLayer: obstacles must be one of {OBSTACLE_VIEWS}, got {obstacles!r}")
         self.obstacles = obstacles
 
-    def reset(self, world) -> None:
+    def reset(self, world: World) -> None:
         """Prepare for a run of ``world`` (static features, radii, speeds)."""
         self.world_ = world
         self.solver_ = ORCASolver(self.params)

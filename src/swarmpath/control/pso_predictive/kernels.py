@@ -78,12 +78,15 @@ def path_buffer_penalty(x_next: FloatArray, start: FloatArray, end: FloatArray, 
     return short * short
 
 
-def static_clearance_penalty(clearance: FloatArray, margin: float) -> FloatArray:
-    """Eq. 6, static term as implemented: (margin - c)/margin for a disc whose clearance c to
-    the nearest static obstacle is below ``margin`` (0 when clear, 1 when touching, more
-    when penetrating); the paper's constant "f_st when a static obstacle is on the local
-    trajectory" becomes a clearance-based ramp so that PSO has a slope to follow."""
-    return np.maximum(0.0, margin - clearance) / margin
+def static_clearance_penalty(clearance: FloatArray, margin: FloatArray | float,
+                             scale: float | None = None) -> FloatArray:
+    """Eq. 6, static term as implemented: (margin - c)/scale for a disc whose clearance c to
+    the nearest static obstacle is below ``margin`` (0 when clear, 1 when touching at
+    margin = scale, more when penetrating); the paper's constant "f_st when a static obstacle
+    is on the local trajectory" becomes a clearance-based ramp so that PSO has a slope to
+    follow. ``margin`` may vary per candidate (array broadcast with ``clearance``); ``scale``
+    defaults to ``margin``."""
+    return np.maximum(0.0, margin - clearance) / (margin if scale is None else scale)
 
 
 def pso_velocity_update_wrapped(v: FloatArray, x: FloatArray, pbest: FloatArray, gbest: FloatArray, w: float,

@@ -47,6 +47,8 @@ class StepProblem:
     obstacle_jumps : (m,) obstacles that teleport (redraw): where one stands now says nothing
         of where it will be, so only the hard constraint of this step (it stands during the
         robot's move) applies to it, not eq. 7 (None: none teleports)
+    static_margin : (k,) each robot's static clearance margin (world units) when it must be
+        smaller than :attr:`Weights.static_margin` (None: that margin for all)
     """
 
     start: FloatArray
@@ -71,6 +73,7 @@ class StepProblem:
     obstacle_mask: BoolArray
     static_near: BoolArray
     obstacle_jumps: BoolArray | None = None
+    static_margin: FloatArray | None = None
 
     def rows(self, idx) -> "StepProblem":
         """The problem of a subset of the rows (obstacle arrays are shared)."""
@@ -84,7 +87,8 @@ class StepProblem:
                        pair_to=self.pair_to[keep], pair_announced=self.pair_announced[keep],
                        pair_separation=self.pair_separation[keep], pair_room=self.pair_room[keep],
                        obstacle_clear=self.obstacle_clear[idx],
-                       obstacle_mask=self.obstacle_mask[idx], static_near=self.static_near[idx])
+                       obstacle_mask=self.obstacle_mask[idx], static_near=self.static_near[idx],
+                       static_margin=None if self.static_margin is None else self.static_margin[idx])
 
     def after(self, decided: FloatArray) -> "StepProblem":
         """The problem in which every robot j with a smaller index than the row's robot moves
@@ -178,7 +182,8 @@ def objective(problem: StepProblem, world, x_next: FloatArray, weights: Weights)
         radius = np.repeat(problem.radius[near], p)
         if weights.static > 0:
             clear = world.static_clearance(flat, radius).reshape(len(near), p)
-            cost[near] += weights.static * static_clearance_penalty(clear, weights.static_margin)
+            margin = weights.static_margin if problem.static_margin is None else problem.static_margin[near][:, None]
+            cost[near] += weights.static * static_clearance_penalty(clear, margin, weights.static_margin)
         if weights.line_of_sight > 0:
             blocked = world.static_hits(flat, np.repeat(problem.goal[near], p, axis=0), radius)
             cost[near] += weights.line_of_sight * blocked.reshape(len(near), p)
