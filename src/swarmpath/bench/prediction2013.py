@@ -185,7 +185,9 @@ def _example_figure(world: World, seed: int, path: Path) -> None:
 def ladder_rungs() -> list[Rung]:
     """From ``pso-predictive-paper`` to ``pso-predictive``, one addition a rung (rung 1: our
     soft formulation, which has no switch of its own; then ``pso-predictive``'s switches)."""
-    off = {"turn_guard": "never", "buffer_steps": 0, "yield_reach": 0.0, "stuck_steps": 0}
+    off = {"turn_guard": "never", "buffer_steps": 0, "yield_reach": 0.0, "stuck_steps": 0, "guidance": False,
+           "safety": False, "side_bias": 0.0, "yield_after": 0}
+    on = {"turn_guard": "learned", "buffer_steps": 2, "yield_reach": 2.0, "stuck_steps": 10}
 
     def ours(weights: Weights | None = None, **kw):
         return lambda: PredictivePSOController(weights=weights, **{**off, **kw})
@@ -205,8 +207,13 @@ def ladder_rungs() -> list[Rung]:
              "getting cornered", ours(turn_guard="learned", buffer_steps=2)),
         Rung("yielding (`yield_reach=2`)", "a robot pressed by the obstacle with no room because of its "
              "neighbours", ours(turn_guard="learned", buffer_steps=2, yield_reach=2.0)),
-        Rung("detours (`stuck_steps=10`) = `pso-predictive`", "robots stuck in a local minimum of eq. 3 "
-             "(a flat face, two robots crossing on an obstacle)", PredictivePSOController),
+        Rung("detours (`stuck_steps=10`)", "robots stuck in a local minimum of eq. 3 "
+             "(a flat face, two robots crossing on an obstacle)", ours(**on)),
+        Rung("guidance (`guidance=True`): eq. 3 aims at the steering point along the distance field",
+             "walls, doors and corridors between a robot and its goal", ours(**on, guidance=True)),
+        Rung("ORCA safety layer and coordination (`safety=True`, side preference, yielding) = "
+             "`pso-predictive`", "contacts the swarm's choice still risks; symmetric jams",
+             PredictivePSOController),
     ]
 
 
