@@ -202,6 +202,15 @@ def test_discs_of_radius_0_4_get_through_the_corridors_of_a_movingai_maze():
         assert validate_trajectory(world, traj) == [], seed
         ends = traj.positions[-1]
         np.testing.assert_array_equal(ends, world.goals)
+    # the margin shrinks only where hard constraints keep robots out of walls: in the purely
+    # soft objective (rung 1 of the ladder) it is all that keeps them out, so it stays whole
+    near = np.ones(world.n_robots, bool)
+    for weights, shrinks in ((pp.Weights(), True), (pp.Weights(hard=0.0), False)):
+        ctrl = pp.PredictivePSOController(weights=weights)
+        ctrl.reset(world, None, np.random.default_rng(0))
+        margin = ctrl._route_margin(world.starts, world.goals, near)
+        assert (margin < weights.static_margin).any() == shrinks
+        assert np.all((margin >= 0) & (margin <= weights.static_margin))
 
 
 # ------------------------------------------------------------------------------ acceptance

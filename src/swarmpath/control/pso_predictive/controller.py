@@ -327,10 +327,12 @@ class PredictivePSOController(Controller):
         clearance on the straight way to its target (sampled every quarter cell, at most 33
         points). A door or corridor narrower than radius + margin, or a goal by a wall, would
         otherwise cost more than a step of progress buys, and the robot would wait before it
-        for ever (a local minimum of eq. 3-7 that only the margin made)."""
+        for ever (a local minimum of eq. 3-7 that only the margin made). Only with the hard
+        constraints on (``weights.hard > 0``): they keep every robot out of the walls, whereas
+        in a purely soft objective the margin is all that does."""
         margin = np.full(len(pos), self.weights.static_margin)
         idx = np.flatnonzero(near)
-        if not len(idx) or self.weights.static <= 0:
+        if not len(idx) or self.weights.static <= 0 or self.weights.hard <= 0:
             return margin
         seg = targets[idx] - pos[idx]
         length = float(np.linalg.norm(seg, axis=1).max())
