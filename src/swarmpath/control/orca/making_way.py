@@ -66,15 +66,7 @@ class _Search:
         next-move checks, (c, 2)."""
         s = self.solver
         cand = np.concatenate([extra.reshape(-1, 2), self.p0[i] + self.offsets * s.step_len[i]])
-        m = len(cand)
-        a = np.repeat(self.p0[i][None], m, axis=0)
-        idx = np.full(m, i)
-        ok = ~s.static_unsafe(a, cand, idx)
-        hard, soft = s.obstacle_unsafe(a, cand, idx, self.fc)
-        ok &= ~hard & ~soft
-        if s.redraw is not None and ok.any():
-            ok[ok] &= ~s.redraw.danger(cand[ok], s.radii[idx[ok]] + 1e-7)
-        return cand[ok]
+        return self._passing(i, cand)
 
     def pushed_moves(self, j: int, pusher_end: FloatArray) -> FloatArray:
         """Safe moves of robot j pushed by a robot that moves to ``pusher_end``: away from that
@@ -87,9 +79,15 @@ class _Search:
         dirs = np.stack([np.cos(ang) * away[0] - np.sin(ang) * away[1],
                          np.sin(ang) * away[0] + np.cos(ang) * away[1]], axis=1)
         cand = (self.p0[j] + (np.asarray(PUSH_LENGTHS)[:, None, None] * s.step_len[j]) * dirs[None]).reshape(-1, 2)
+        return self._passing(j, cand)
+
+    def _passing(self, i: int, cand: FloatArray) -> FloatArray:
+        """The ends ``cand`` (c, 2) of robot i's moves that pass the static, footprint and
+        next-move checks (and keep clear of a redraw's possible places)."""
+        s = self.solver
         m = len(cand)
-        a = np.repeat(self.p0[j][None], m, axis=0)
-        idx = np.full(m, j)
+        a = np.repeat(self.p0[i][None], m, axis=0)
+        idx = np.full(m, i)
         ok = ~s.static_unsafe(a, cand, idx)
         hard, soft = s.obstacle_unsafe(a, cand, idx, self.fc)
         ok &= ~hard & ~soft
