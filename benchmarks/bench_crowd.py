@@ -56,7 +56,7 @@ def main() -> None:
     ap.add_argument("--episodes", type=int, default=500)
     ap.add_argument("--obstacles", type=int, nargs="+", default=[5, 10, 20])
     ap.add_argument("--motions", nargs="+", default=["bounce", "random-walk"])
-    ap.add_argument("--controllers", nargs="+", default=["orca", "pso-predictive"])
+    ap.add_argument("--controllers", nargs="+", default=["orca", "pso-predictive"], choices=sorted(CONTROLLERS.names()))
     args = ap.parse_args()
     print(f"crowd crossing, {args.episodes} episodes per setting")
     settings = [(c, n, motion) for c in args.controllers for n in args.obstacles for motion in args.motions]
