@@ -10,7 +10,9 @@ rules, so the same situation always resolves the same way (no random perturbatio
    over robots by the golden ratio (no two neighbours turn alike);
 2. *priority yielding*: robots that made no progress for ``yield_after`` steps back away at
    full speed from any stalled robot of smaller index within reach until it progresses; a
-   robot parked on its goal ranks below every stalled robot (it backs away and returns).
+   robot parked on its goal ranks below every stalled robot (it backs away and returns), and,
+   with ``chain`` > 0, a parked robot it backs into backs away in turn (a door with goals on
+   both sides).
 
 It also tracks each robot's progress along the guidance's remaining length and reports a
 robot without progress for ``patience`` steps with a ``deadlock`` event (and
@@ -37,6 +39,11 @@ BoolArray = NDArray[np.bool_]
 GOLDEN = 0.6180339887498949
 
 
+def unit(v: FloatArray) -> FloatArray:
+    """Rows of ``v`` (k, 2) scaled to length 1 (zero rows stay zero)."""
+    return v / np.maximum(np.linalg.norm(v, axis=1), 1e-12)[:, None]
+
+
 def rotate(v: FloatArray, angle: FloatArray) -> FloatArray:
     """Vectors (n, 2) turned counter-clockwise by ``angle`` (n,) radians."""
     c, s = np.cos(angle), np.sin(angle)
@@ -55,9 +62,12 @@ class Coordination:
         of smaller index nearby (0 = off)
     patience : steps without progress before a ``deadlock`` event
     margin : extra distance (world units) within which two stalled robots count as touching
+    chain : how many parked robots deep a back-away passes on, each in the way of the one
+        before (0 = off, the default until the reproductions are measured with it)
     """
 
-    def __init__(self, *, side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, margin: float = 0.02):
+    def __init__(self, *, side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, margin: float = 0.02,
+                 chain: int = 0):
         if not 0 <= side_bias < np.pi / 2:
             raise ConfigError(f"side_bias must be in [0, pi/2) radians, got {side_bias}")
         if yield_after < 0:
@@ -66,6 +76,9 @@ class Coordination:
             raise ConfigError(f"patience must be >= 1, got {patience}")
         if not margin >= 0:
             raise ConfigError(f"margin must be >= 0, got {margin}")
+        if isinstance(chain, bool) or not isinstance(chain, (int, np.integer)) or chain < 0:
+            raise ConfigError(f"chain must be a whole number >= 0 (0 = off), got {chain!r}")
+        self.chain = int(chain)
         self.side_bias = side_bias
         self.yield_after = yield_after
         self.patience = patience
@@ -127,7 +140,10 @@ class Coordination:
         speed (until that robot makes progress again), so the robot of highest priority in
         every jam gets room; the order is fixed, so two robots never undo each other. A robot
         that has reached its goal ranks below every stalled robot: parked in a door or a
-        corridor, it backs away from a stalled robot near it, and returns afterwards."""
+        corridor, it backs away from a stalled robot near it, and returns afterwards. A parked
+        robot in the way of one backing away (ahead of it, within reach) backs away from it
+        too, up to ``chain`` robots deep: with goals in a door and just behind it, the
+        first alone would push into the second and nothing would move."""
         if self.yield_after == 0:
             return pref
         stalled = self.stalled
@@ -144,15 +160,24 @@ class Coordination:
             return pref
         a, b = group[pairs[:, 0]], group[pairs[:, 1]]
         keep = stalled[a] | stalled[b]                        # two parked robots leave each other be
-        a, b = a[keep], b[keep]
         # the parked one yields to the stalled one; of two stalled, the larger index yields
         b_yields = parked[b] | (stalled[a] & stalled[b])
-        lo = np.where(b_yields, b, a)
-        hi = np.where(b_yields, a, b)
-        away = pos[lo] - pos[hi]
-        away /= np.maximum(np.linalg.norm(away, axis=1), 1e-12)[:, None]
+        lo = np.where(b_yields & keep, b, a)[keep]
+        hi = np.where(b_yields & keep, a, b)[keep]
         push = np.zeros_like(pref)
-        np.add.at(push, lo, away)
+        np.add.at(push, lo, unit(pos[lo] - pos[hi]))
+        # a parked robot backing away into another parked one (a door with goals on both sides)
+        # makes that one back away too, robots deep along the chain
+        a, b = a[~keep], b[~keep]
+        moving = np.linalg.norm(push, axis=1) > 1e-9
+        for _ in range(self.chain):
+            ahead_b = moving[a] & ~moving[b] & (np.einsum("ij,ij->i", push[a], pos[b] - pos[a]) > 0)
+            ahead_a = moving[b] & ~moving[a] & (np.einsum("ij,ij->i", push[b], pos[a] - pos[b]) > 0)
+            if not (ahead_a.any() or ahead_b.any()):
+                break
+            np.add.at(push, b[ahead_b], unit(pos[b[ahead_b]] - pos[a[ahead_b]]))
+            np.add.at(push, a[ahead_a], unit(pos[a[ahead_a]] - pos[b[ahead_a]]))
+            moving = np.linalg.norm(push, axis=1) > 1e-9
         norm = np.linalg.norm(push, axis=1)
         yielding = norm > 1e-9
         out = pref.copy()

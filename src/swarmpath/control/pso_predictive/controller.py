@@ -110,6 +110,9 @@ class PredictivePSOController(Controller):
         step turns its steering direction right by ``side_bias`` radians (0 = off); robots
         stalled ``yield_after`` steps back away from a stalled robot of smaller index (0 =
         off); a robot without progress for ``patience`` steps gives a ``deadlock`` event
+    yield_chain : with ``yield_after``, a robot parked on its goal that another backs into
+        backs away too, up to this many robots deep (0 = off; 4 gets the robots through
+        room-32-32-4's doors with goals in a door and behind it)
     weights, swarm : :class:`Weights` and :class:`SwarmSettings`
     """
 
@@ -120,8 +123,8 @@ class PredictivePSOController(Controller):
                  turn_guard: str = "learned", buffer_steps: int = 2, stuck_steps: int = 10,
                  detour_reach: float = 6.0, yield_reach: float = 2.0, safety: bool = True,
                  safety_horizon: float = 1.0, guidance: bool = True,
-                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, weights: Weights | None = None,
-                 swarm: SwarmSettings | None = None):
+                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, yield_chain: int = 0,
+                 weights: Weights | None = None, swarm: SwarmSettings | None = None):
         if not sensing_factor > 1:
             raise ConfigError(f"sensing_factor must be > 1 (the paper's n), got {sensing_factor}")
         if eps <= 0 or obstacle_margin < 0:
@@ -147,7 +150,8 @@ class PredictivePSOController(Controller):
             raise ConfigError(f"safety_horizon must be > 0 steps, got {safety_horizon}")
         self.safety_horizon = safety_horizon
         self.guidance = bool(guidance)
-        Coordination(side_bias=side_bias, yield_after=yield_after, patience=patience)   # validates them
+        Coordination(side_bias=side_bias, yield_after=yield_after, patience=patience, chain=yield_chain)  # validates
+        self.yield_chain = yield_chain
         self.side_bias = side_bias
         self.yield_after = yield_after
         self.patience = patience
@@ -189,7 +193,7 @@ class PredictivePSOController(Controller):
         self.guidance_ = Guidance()
         self.guidance_.reset(world, plan if self.guidance else None)
         self.coordination_ = Coordination(side_bias=self.side_bias, yield_after=self.yield_after,
-                                          patience=self.patience)
+                                          patience=self.patience, chain=self.yield_chain)
         self.coordination_.reset(world, self.guidance_)
         self.layer_ = None
         if self.safety:
