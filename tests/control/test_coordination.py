@@ -18,13 +18,13 @@ from swarmpath.world.generators import movingai
 def test_parked_robots_in_a_door_and_behind_it_make_way_on_room_32_32_4():
     """room-32-32-4, the first 20 agents as discs of radius 0.4: robot 10's goal is the
     one-cell door at (18.5, 12.5) and robot 2's the cell just behind it, and robot 9 must pass
-    through both. With ``yield_chain=4`` robot 10 backs away from robot 9 into robot 2, which
-    backs away in turn; without the chain (the default for now) robot 10 pushes into robot 2,
-    nothing moves, and robots 2, 9 and 10 never all arrive (17 of 20 with ``pso-reactive`` and
-    ``pso-predictive``)."""
+    through both. With the chain (``yield_chain=4``, the default) robot 10 backs away from
+    robot 9 into robot 2, which backs away in turn; without it (``yield_chain=0``) robot 10
+    pushes into robot 2, nothing moves, and robots 2, 9 and 10 never all arrive (17 of 20 with
+    ``pso-reactive`` and ``pso-predictive``)."""
     world = movingai("room-32-32-4", 20, radius=0.4)
     assert world.robots[10].goal == (18.5, 12.5) and world.robots[2].goal == (18.5, 11.5)
-    traj = Simulator(world, CONTROLLERS.get("pso-reactive")(yield_chain=4), seed=0, max_steps=800).run()
+    traj = Simulator(world, CONTROLLERS.get("pso-reactive")(), seed=0, max_steps=800).run()
     assert validate_trajectory(world, traj) == []
     assert traj.status == ALL_REACHED
     np.testing.assert_array_equal(traj.positions[-1], world.goals)

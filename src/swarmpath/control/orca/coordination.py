@@ -63,7 +63,7 @@ class Coordination:
     patience : steps without progress before a ``deadlock`` event
     margin : extra distance (world units) within which two stalled robots count as touching
     chain : how many parked robots deep a back-away passes on, each in the way of the one
-        before (0 = off, the default until the reproductions are measured with it)
+        before (0 = off; ``pso-predictive`` and ``pso-reactive`` use 4)
     """
 
     def __init__(self, *, side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, margin: float = 0.02,

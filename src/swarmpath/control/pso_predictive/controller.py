@@ -111,8 +111,8 @@ class PredictivePSOController(Controller):
         stalled ``yield_after`` steps back away from a stalled robot of smaller index (0 =
         off); a robot without progress for ``patience`` steps gives a ``deadlock`` event
     yield_chain : with ``yield_after``, a robot parked on its goal that another backs into
-        backs away too, up to this many robots deep (0 = off; 4 gets the robots through
-        room-32-32-4's doors with goals in a door and behind it)
+        backs away too, up to this many robots deep (0 = off): with goals in a one-cell door
+        and just behind it (room-32-32-4) the first alone would push into the second
     weights, swarm : :class:`Weights` and :class:`SwarmSettings`
     """
 
@@ -123,7 +123,7 @@ class PredictivePSOController(Controller):
                  turn_guard: str = "learned", buffer_steps: int = 2, stuck_steps: int = 10,
                  detour_reach: float = 6.0, yield_reach: float = 2.0, safety: bool = True,
                  safety_horizon: float = 1.0, guidance: bool = True,
-                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, yield_chain: int = 0,
+                 side_bias: float = 0.15, yield_after: int = 8, patience: int = 40, yield_chain: int = 4,
                  weights: Weights | None = None, swarm: SwarmSettings | None = None):
         if not sensing_factor > 1:
             raise ConfigError(f"sensing_factor must be > 1 (the paper's n), got {sensing_factor}")
