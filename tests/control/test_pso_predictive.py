@@ -233,3 +233,19 @@ def test_acceptance_every_robot_reaches_its_goal_without_collisions():
             assert traj.status == ALL_REACHED, where
             assert traj.contacts == [], where
             assert validate_trajectory(w, traj) == [], where
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", ["redraw", "turn-every", "random-walk", "waypoints"])
+@pytest.mark.parametrize("name", ["pso-predictive", "pso-reactive"])
+def test_moving_obstacles_of_every_kind_never_push_robots_into_walls(name, kind):
+    """Rooms with doors and three obstacles of each motion kind, teleporting ones included:
+    no robot ever touches a wall, leaves the workspace or touches another robot."""
+    from swarmpath.world.generators import rooms_with_doors, with_obstacles
+
+    for seed in range(3):
+        w = with_obstacles(rooms_with_doors(), kind, 3, seed)
+        traj = Simulator(w, CONTROLLERS.get(name)(), seed=seed, max_steps=150).run()
+        assert not [c for c in traj.contacts if c.kind in ("robot_static", "robot_robot")], f"seed {seed}"
+        assert not [e for e in traj.events if e["kind"] == "invalid_move"]
+        assert all("robot_moving" in v.problem for v in validate_trajectory(w, traj)), f"seed {seed}"
