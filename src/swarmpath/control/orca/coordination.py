@@ -162,21 +162,20 @@ class Coordination:
         keep = stalled[a] | stalled[b]                        # two parked robots leave each other be
         # the parked one yields to the stalled one; of two stalled, the larger index yields
         b_yields = parked[b] | (stalled[a] & stalled[b])
-        lo = np.where(b_yields & keep, b, a)[keep]
-        hi = np.where(b_yields & keep, a, b)[keep]
+        lo = np.where(b_yields, b, a)[keep]
+        hi = np.where(b_yields, a, b)[keep]
         push = np.zeros_like(pref)
         np.add.at(push, lo, unit(pos[lo] - pos[hi]))
         # a parked robot backing away into another parked one (a door with goals on both sides)
-        # makes that one back away too, robots deep along the chain
-        a, b = a[~keep], b[~keep]
+        # makes that one back away too, robots deep along the chain; the parked pairs, both ways
+        src = np.concatenate([a[~keep], b[~keep]])
+        dst = np.concatenate([b[~keep], a[~keep]])
         moving = np.linalg.norm(push, axis=1) > 1e-9
         for _ in range(self.chain):
-            ahead_b = moving[a] & ~moving[b] & (np.einsum("ij,ij->i", push[a], pos[b] - pos[a]) > 0)
-            ahead_a = moving[b] & ~moving[a] & (np.einsum("ij,ij->i", push[b], pos[a] - pos[b]) > 0)
-            if not (ahead_a.any() or ahead_b.any()):
+            ahead = moving[src] & ~moving[dst] & (np.einsum("ij,ij->i", push[src], pos[dst] - pos[src]) > 0)
+            if not ahead.any():
                 break
-            np.add.at(push, b[ahead_b], unit(pos[b[ahead_b]] - pos[a[ahead_b]]))
-            np.add.at(push, a[ahead_a], unit(pos[a[ahead_a]] - pos[b[ahead_a]]))
+            np.add.at(push, dst[ahead], unit(pos[dst[ahead]] - pos[src[ahead]]))
             moving = np.linalg.norm(push, axis=1) > 1e-9
         norm = np.linalg.norm(push, axis=1)
         yielding = norm > 1e-9
