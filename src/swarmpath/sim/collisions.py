@@ -22,8 +22,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from swarmpath.world import geometry as g
-from swarmpath.world.move_rules import KIND_NAMES, move_conflicts
-from swarmpath.world.shapes import Circle
+from swarmpath.world.move_rules import KIND_NAMES, footprint_hits, move_conflicts
 
 FloatArray = NDArray[np.float64]
 
@@ -76,18 +75,6 @@ def robot_static_contacts(world, p0: FloatArray, p1: FloatArray, radii: FloatArr
     return [(int(i), "obstacle" if ok else "boundary") for i, ok in zip(hits.tolist(), inside.tolist())]
 
 
-def _footprint_hits(shape, a: FloatArray, b: FloatArray, r: FloatArray) -> NDArray[np.bool_]:
-    """Whether discs of radius ``r`` moving a->b enter ``shape`` (footprint at the origin-
-    relative frame already applied)."""
-    if isinstance(shape, Circle):
-        d = g.point_segment_distance(np.asarray(shape.center, float), a, b)
-        return d < shape.radius + r - g.EPS
-    lo, hi = np.asarray(shape.min, float), np.asarray(shape.max, float)
-    crossed = g.segment_crosses_open_box(a, b, lo, hi)
-    close = g.segment_box_distance(a, b, lo, hi) < r - g.EPS
-    return np.where(r > 0, close | crossed, crossed)
-
-
 def robot_moving_contacts(world, robots_before: FloatArray, robots_after: FloatArray, obstacles_before: FloatArray,
                           obstacles_after: FloatArray, radii: FloatArray) -> list[tuple[int, int, str]]:
     """Robot-obstacle collisions of both phases of a step: (robot, obstacle, detail)."""
@@ -109,12 +96,12 @@ def robot_moving_contacts(world, robots_before: FloatArray, robots_after: FloatA
         if len(near1):
             rel0 = robots_before[near1] - o0
             rel1 = robots_before[near1] - o1
-            hit = _footprint_hits(shape, rel0, rel1, radii[near1])
+            hit = footprint_hits(shape, rel0, rel1, radii[near1])
             out.extend((int(i), int(j), "obstacle moved into robot") for i in near1[hit])
         # Phase 2: robots move among the obstacle standing at o1.
         near2 = np.flatnonzero(close2[:, j])
         if len(near2):
-            hit = _footprint_hits(shape, robots_before[near2] - o1, robots_after[near2] - o1, radii[near2])
+            hit = footprint_hits(shape, robots_before[near2] - o1, robots_after[near2] - o1, radii[near2])
             out.extend((int(i), int(j), "robot moved into obstacle") for i in near2[hit])
     # one contact per (robot, obstacle) and step
     seen: dict[tuple[int, int], str] = {}

@@ -22,7 +22,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from swarmpath.world import geometry as g
 from swarmpath.world.geometry import EPS, origin_segment_distance
+from swarmpath.world.shapes import Circle
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -98,3 +100,18 @@ def grid_conflict_table(radius_i: float, radius_j: float, resolution: float = 1.
     table = move_conflicts(p0_i, p1_i, p0_j, p1_j, radius_i, radius_j, resolution) != NO_CONFLICT
     table[np.all(NEAR_OFFSETS == 0, axis=1)] = True   # two robots never share a start cell
     return table
+
+
+def footprint_hits(shape, a: FloatArray, b: FloatArray, r: FloatArray) -> BoolArray:
+    """Whether discs of radius ``r`` (k,) moving ``a -> b`` (k, 2) enter the footprint
+    ``shape`` of a moving obstacle standing still (coordinates relative to the obstacle,
+    ``shape`` placed at the origin). Touching is allowed; a point robot (r = 0) hits a box
+    only by crossing its open interior. The checker's phase-2 rule (robots move among the
+    obstacles' new positions), shared with controllers that check their own moves."""
+    if isinstance(shape, Circle):
+        d = g.point_segment_distance(np.asarray(shape.center, float), a, b)
+        return d < shape.radius + r - g.EPS
+    lo, hi = np.asarray(shape.min, float), np.asarray(shape.max, float)
+    crossed = g.segment_crosses_open_box(a, b, lo, hi)
+    close = g.segment_box_distance(a, b, lo, hi) < r - g.EPS
+    return np.where(r > 0, close | crossed, crossed)

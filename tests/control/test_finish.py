@@ -1,0 +1,99 @@
+"""Finishing together (swarmpath.control.finish): the finishing step is taken exactly when the
+simulator's checker finds no contact in the robots' move of that step, and it ends runs among
+never-stopping obstacles with every robot home and no contact."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmpath.control.finish import finish_positions
+from swarmpath.errors import ConfigError, ScenarioError
+from swarmpath.sim.collisions import step_contacts
+from swarmpath.sim.stepper import WorldStepper
+from swarmpath.world import Circle, Rect, RectBounds, Robot, World
+from swarmpath.world.move_rules import GRID_MOVES
+from swarmpath.world.moving import Bounce8, MovingObstacle, RandomWalk
+from swarmpath.world.static_map import StaticMap
+
+S2 = float(np.sqrt(2))
+
+
+def random_case(rng: np.random.Generator, radius: float) -> World | None:
+    """A 7 x 7 grid with a few blocked cells, 4 robots whose goals lie one grid move (or two)
+    from their starts, and 3 moving blocks or discs; None when the draw is not a valid world."""
+    size = 7
+    blocked = rng.random((size, size)) < 0.12
+    free = np.argwhere(~blocked)[:, ::-1]
+    if len(free) < 12:
+        return None
+    pick = free[rng.choice(len(free), size=7, replace=False)]
+    starts = pick[:4]
+    moves = GRID_MOVES[rng.integers(0, 9, size=4)] * rng.choice([1, 1, 1, 2], size=4)[:, None]
+    goals = np.clip(starts + moves, 0, size - 1)
+    robots = tuple(Robot(f"r{i}", tuple(starts[i] + 0.5), tuple(goals[i] + 0.5), radius, S2) for i in range(4))
+    moving = []
+    for k, c in enumerate(pick[4:]):
+        shape = Rect((-0.5, -0.5), (0.5, 0.5)) if k % 2 == 0 else Circle((0.0, 0.0), 0.45)
+        motion = RandomWalk() if k % 2 == 0 else Bounce8()
+        moving.append(MovingObstacle(f"m{k}", shape, tuple(c + 0.5), (1.0, 0.0), motion))
+    try:
+        return World(RectBounds(size, size), static_map=StaticMap(blocked, 1.0), moving_obstacles=tuple(moving),
+                     robots=robots, name="finish-case")
+    except (ConfigError, ScenarioError):
+        return None
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.3])
+def test_finishing_step_is_taken_exactly_when_the_checker_finds_no_contact(radius) -> None:
+    """Over many random worlds and steps: finish_positions returns the goals if and only if
+    moving every robot to its goal in this step is within reach and the checker finds no
+    contact (steps at which an obstacle already ran into a standing robot, phase 1, which
+    happens whatever the robots do, are skipped)."""
+    rng = np.random.default_rng(7)
+    taken = refused = 0
+    for _ in range(400):
+        world = random_case(rng, radius)
+        if world is None:
+            continue
+        stepper = WorldStepper(world, record=False)
+        stepper.reset(int(rng.integers(1000)))
+        for _ in range(3):
+            stepper.begin_step()
+            obs = stepper.observation()
+            home = finish_positions(world, obs)
+            goals = world.goals
+            in_reach = np.all(np.linalg.norm(goals - obs.positions, axis=1) <= world.max_speeds * world.dt)
+            contacts = step_contacts(world, obs.step, obs.positions, goals, obs.obstacle_previous,
+                                     obs.obstacle_positions)
+            if any(c.detail == "obstacle moved into robot" for c in contacts):
+                # the checker keeps one contact per robot and obstacle in a step (the first,
+                # phase 1), which would hide a phase-2 contact with the same obstacle
+                stepper.end_step(obs.positions)
+                continue
+            own = contacts
+            all_home = bool(np.all(obs.at_goal))
+            expected = in_reach and not own and not all_home
+            assert (home is not None) == expected, (world.robots, obs.obstacle_positions, own)
+            if home is not None:
+                np.testing.assert_array_equal(home, goals)
+                taken += 1
+            else:
+                refused += 1
+            stepper.end_step(obs.positions)    # stand still and look again next step
+    assert taken > 20 and refused > 20     # both outcomes were exercised
+
+
+def test_no_finish_when_a_robot_is_out_of_reach_or_two_robots_would_swap() -> None:
+    robots = (Robot("a", (1.5, 1.5), (2.5, 1.5), 0.0, 1.0), Robot("b", (2.5, 1.5), (1.5, 1.5), 0.0, 1.0))
+    world = World(RectBounds(6, 6), static_map=StaticMap(np.zeros((6, 6), bool), 1.0),
+                  moving_obstacles=(MovingObstacle("m", Rect((-0.5, -0.5), (0.5, 0.5)), (5.5, 5.5), (0.0, 1.0),
+                                                   RandomWalk()),), robots=robots, name="swap")
+    stepper = WorldStepper(world)
+    stepper.reset(0)
+    stepper.begin_step()
+    assert finish_positions(world, stepper.observation()) is None       # a swap
+    far = world.replace(robots=(Robot("a", (1.5, 1.5), (3.5, 1.5), 0.0, 1.0),))
+    stepper = WorldStepper(far)
+    stepper.reset(0)
+    stepper.begin_step()
+    assert finish_positions(far, stepper.observation()) is None         # two cells away
