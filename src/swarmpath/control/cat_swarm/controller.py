@@ -43,6 +43,7 @@ from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
+from swarmpath.control.finish import finish_positions, finishing_decision
 from swarmpath.control.hazards import ObstacleForecast, hazard_windows, stay_depth, warning_levels
 from swarmpath.control.observation import CLASS_INDEX, Observation
 from swarmpath.control.pibt.core import (
@@ -92,6 +93,9 @@ class CatSwarmController(Controller):
             corridor (True).
         report_after : steps without progress before a deadlock event is recorded (40).
         landmarks : landmark cells of the lazy distance tables ("auto", see ``pibt``).
+        finish_together : with moving obstacles, all robots step onto their goals at once
+            when that step has no contact, which ends the run (True; see ``pibt`` and
+            :mod:`swarmpath.control.finish`).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -100,7 +104,8 @@ class CatSwarmController(Controller):
                  obstacle_alert: str = "long", margin: int = 0, lookahead: int = 5, leave_early: int = 2,
                  hazard_horizon: int = 4, hazard_weight: float = 2.0, hazard_decay: float = 0.7, lead: bool = True,
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
-                 stalled_lookahead: int = 2, relax_after: int = 20):
+                 stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True):
+        self.finish_together = finish_together
         self.stalled_lookahead = stalled_lookahead
         self.relax_after = relax_after
         self.mixture_ratio = mixture_ratio
@@ -228,6 +233,10 @@ class CatSwarmController(Controller):
         n = obs.n_robots
         if n == 0:
             return Decision(obs.positions.copy(), [])
+        if self.finish_together and self.forecast_ is not None:
+            home = finish_positions(self.world_, obs)
+            if home is not None:
+                return finishing_decision(home, obs)
         pos, goals, at_goal = obs.positions, obs.goals, obs.at_goal
         rows = np.arange(n)
         active = ~at_goal
