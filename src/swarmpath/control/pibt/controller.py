@@ -96,9 +96,11 @@ class PIBTController(Controller):
         keeps only the next step clear (as with ``leave_early=1``), so it waits beside a goal
         an obstacle may enter instead of backing off two cells or more; with
         ``finish_together`` the robots are then all within one step of their goals more
-        often. None (default): ``leave_early`` applies everywhere. ``lookahead=4,
-        leave_early=2, hover=3`` brings all 100 robots of the 64 x 64 acceptance world with 20
-        never-stopping obstacles home at once with zero contacts (docs/algorithms/pibt.md).
+        often, at the price of some more contacts where obstacles corner robots. None
+        (default): ``leave_early`` applies everywhere. With ``lookahead=4, leave_early=2,
+        hover=3`` all 100 robots of the 64 x 64 acceptance world (20 never-stopping obstacles)
+        end on their goals at once on 14 of 20 fresh seeds, against 4 without ``hover``
+        (docs/algorithms/pibt.md has the contacts).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
