@@ -59,6 +59,9 @@ ESCAPE_DIRECTIONS = 32
 VIABLE_DIRECTIONS = 16
 #: Slack of the exact checks beyond the simulator's own (world units).
 CHECK_SLACK = 1e-7
+#: Up to this many neighbours (self included) the C grid search finds them (it keeps them in
+#: a sorted list, one insertion per candidate); beyond, cKDTree does.
+MAX_GRID_NEIGHBOURS = 64
 
 
 def tidy_moves(pos: FloatArray, p1: FloatArray, goals: FloatArray, step_len: FloatArray,
@@ -66,6 +69,9 @@ def tidy_moves(pos: FloatArray, p1: FloatArray, goals: FloatArray, step_len: Flo
     """End positions (n, 2) of moves pos -> p1 made exact: an end within ``snap`` of the goal
     is the goal (the simulator's arrival test is exact), a move shorter than 1e-12 is no move,
     and no move exceeds ``step_len`` (n,) (rounding of v * dt)."""
+    found = kernels.tidy_moves(pos, p1, goals, step_len, snap)     # the C loop, or the numpy reference
+    if found is not None:
+        return found
     p1 = p1.copy()
     near_goal = np.linalg.norm(p1 - goals, axis=1) <= snap
     p1[near_goal] = goals[near_goal]
@@ -137,6 +143,7 @@ class ORCASolver:
 
     def __init__(self, params: ORCAParams | None = None):
         self.params = params or ORCAParams()
+        self._rows_cache: IntArray | None = None
 
     def reset(self, world: World) -> None:
         """Precompute the world's static features, radii, speeds and margins."""
@@ -201,9 +208,11 @@ class ORCASolver:
         tau = np.where(np.linalg.norm(pos - self.goals, axis=1) <= self.speeds * self.tau_static, self.dt,
                        self.tau_static) if n else np.zeros(0)
         owner, offset = self.features.closest(pos, reach)
-        add(owner, *clearance_halfplanes(offset, clearance[owner], tau[owner], floor=0.0), 0)
+        if len(owner):
+            add(owner, *clearance_halfplanes(offset, clearance[owner], tau[owner], floor=0.0), 0)
         owner, normal, room = self.features.bound_lines(pos, clearance, self.step_len, reach - clearance)
-        add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / tau[owner]), 0)
+        if len(owner):
+            add(owner, *halfplane_below(normal, np.maximum(room, 0.0) / tau[owner]), 0)
         # moving obstacles: hard (this step's footprint), firm (next move), soft (ORCA)
         if forecast is not None and len(forecast.now):
             self._obstacle_lines(pos, vel, forecast, add)
@@ -211,13 +220,20 @@ class ORCASolver:
         if n > 1 and p.max_neighbours > 0:
             i, j = self.neighbours(pos)
             if len(i):
-                c = 0.5 if fixed is None else np.where(fixed[j], 1.0, 0.5)
-                lp_, ld_ = orca_halfplanes_robots(pos[j] - pos[i], vel[i] - vel[j], vel[i],
-                                                  self.combined_radius(i, j), self.tau, self.dt, c)
-                add(i, lp_, ld_, 2)
+                # the C loop, or its numpy reference (the same bits)
+                resp = np.full(n, 0.5) if fixed is None else np.where(fixed, 1.0, 0.5)
+                found = kernels.robot_halfplanes(pos, vel, self.radii, resp, i, j, np.sqrt(2.0) * self.resolution,
+                                                 p.safety_margin, self.tau, self.dt)
+                if found is None:
+                    c = 0.5 if fixed is None else np.where(fixed[j], 1.0, 0.5)
+                    found = orca_halfplanes_robots(pos[j] - pos[i], vel[i] - vel[j], vel[i],
+                                                   self.combined_radius(i, j), self.tau, self.dt, c)
+                add(i, *found, 2)
         if owners:
-            return kernels.pack_lines(np.concatenate(owners), np.concatenate(pts), np.concatenate(dirs),
-                                      np.concatenate(tiers), n)
+            def joined(parts):
+                return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+            return kernels.pack_lines(joined(owners), joined(pts), joined(dirs), joined(tiers), n)
         return kernels.pack_lines(np.zeros(0, np.int64), np.zeros((0, 2)), np.zeros((0, 2)),
                                   np.zeros(0, np.int64), n)
 
@@ -248,15 +264,38 @@ class ORCASolver:
 
     def neighbours(self, pos: FloatArray) -> tuple[IntArray, IntArray]:
         """(i, j) pairs: for each robot i its up to ``max_neighbours`` nearest robots j within
-        ``neighbour_distance``, nearest first."""
+        ``neighbour_distance``, nearest first, exactly as scipy's cKDTree finds them: the C
+        grid search (:func:`kernels.nearest`) where distances are distinct, cKDTree for the
+        robots with tied distances (whose order is its tree's) and as the reference."""
         p = self.params
-        k = min(p.max_neighbours + 1, len(pos))
+        n = len(pos)
+        k = min(p.max_neighbours + 1, n)
+        found = kernels.nearest(pos, k, p.neighbour_distance) if k <= MAX_GRID_NEIGHBOURS else None
+        if found is not None:
+            idx, tied = found
+            if tied.any():
+                rows = np.flatnonzero(tied)
+                dist, ix = cKDTree(pos).query(pos[rows], k=k, distance_upper_bound=p.neighbour_distance)
+                dist = dist.reshape(len(rows), k)
+                ix = ix.reshape(len(rows), k)
+                idx[rows] = np.where(np.isfinite(dist) & (ix < n), ix, -1)
+            ii = self._rows(n, k)
+            ok = (idx >= 0) & (idx != ii)
+            return ii[ok], idx[ok]
         dist, idx = cKDTree(pos).query(pos, k=k, distance_upper_bound=p.neighbour_distance)
         dist = dist.reshape(len(pos), k)
         idx = idx.reshape(len(pos), k)
         ii = np.repeat(np.arange(len(pos)), k).reshape(len(pos), k)
         ok = np.isfinite(dist) & (idx != ii) & (idx < len(pos))
         return ii[ok].astype(np.int64), idx[ok].astype(np.int64)
+
+    def _rows(self, n: int, k: int) -> IntArray:
+        """The (n, k) array of row indices (robot i in row i), kept between steps."""
+        rows = self._rows_cache
+        if rows is None or rows.shape != (n, k):
+            rows = np.repeat(np.arange(n, dtype=np.int64), k).reshape(n, k)
+            self._rows_cache = rows
+        return rows
 
     # ------------------------------------------------------------------ velocities
     def velocities(self, pos: FloatArray, vel: FloatArray, preferred: FloatArray,
@@ -344,10 +383,14 @@ class ORCASolver:
         for levels in ([0], list(range(1, last + 1))):
             if not len(todo):
                 break
-            rows = np.tile(todo, len(levels))
-            lv = np.repeat(np.asarray(levels), len(todo))
-            a = p0[rows]
-            b = np.where((lv == 0)[:, None], p1[rows], a + scales[lv][:, None] * d[rows])
+            if levels == [0]:       # the whole moves: their ends are p1 itself
+                rows = todo
+                a, b = p0[rows], p1[rows]
+            else:
+                rows = np.tile(todo, len(levels))
+                lv = np.repeat(np.asarray(levels), len(todo))
+                a = p0[rows]
+                b = np.where((lv == 0)[:, None], p1[rows], a + scales[lv][:, None] * d[rows])
             hard = self.static_unsafe(a, b, rows)
             ob_hard, soft = self.obstacle_unsafe(a, b, rows, forecast)
             hard |= ob_hard
@@ -527,6 +570,14 @@ class ORCASolver:
             return level
         scales = np.asarray(SCALES)
         last = len(scales) - 1
+        # two robots whose starts lie farther apart than twice the longest move plus this
+        # cannot conflict
+        extra = 2 * float(self.radii.max(initial=0.0)) + 1e-6 + (2 * self.resolution if self.points.any() else 0.0)
+        # the C loop (it finds the pairs within that reach on a grid), or the numpy reference
+        found = kernels.robot_pairs(p0, d, self.radii + CHECK_SLACK * (self.radii > 0), threatened, level, scales,
+                                    self.resolution, extra)
+        if found is not None:
+            return found
         reach = 2 * float(np.linalg.norm(d, axis=1).max(initial=0.0)) + 2 * float(self.radii.max(initial=0.0)) \
             + 1e-6 + (2 * self.resolution if self.points.any() else 0.0)
         pairs = cKDTree(p0).query_pairs(reach, output_type="ndarray")
