@@ -60,10 +60,12 @@ def test_window_moves_are_the_static_moves():
     assert np.array_equal(H.window_moves(padded), K.move_table(blocked))
 
 
+@pytest.mark.parametrize("spare", [False, True])
 @pytest.mark.parametrize("seed", range(4))
-def test_tiers_on_windows_are_the_whole_grid_cascade(seed):
+def test_tiers_on_windows_are_the_whole_grid_cascade(seed, spare):
     """The cascade of HazardWindows.tiers equals the same backward induction on the whole
-    grid (what the controllers computed before the windows)."""
+    grid (what the controllers computed before the windows); with ``spare``, within a tier
+    the candidates with two ways on (moves into the next tier's cells) when a robot has any."""
     world, now, previous, rng = world_with_obstacles(seed)
     grid = world.grid()
     fc = H.ObstacleForecast(world, grid)
@@ -81,14 +83,20 @@ def test_tiers_on_windows_are_the_whole_grid_cascade(seed):
     h, w = grid.blocked.shape
     xs, ys = np.clip(dest[..., 0], 0, w - 1), np.clip(dest[..., 1], 0, h - 1)
     allowed = K.moves_at(grid.blocked, cells[r]) & ~full[0][ys, xs]
-    got, threatened = hz.tiers(allowed, dest, depth)
+    got, threatened = hz.tiers(allowed, dest, depth, spare=spare)
     # the whole-grid reference
+    exits = K.moves_at(grid.blocked, np.stack([xs, ys], axis=-1).reshape(-1, 2)).reshape(len(r), 9, 9)
+    around = np.stack([xs, ys], axis=-1)[:, :, None, :] + K.OFFSETS
+    ax, ay = np.clip(around[..., 0], 0, w - 1), np.clip(around[..., 1], 0, h - 1)
     expected = allowed.copy()
     expected_threat = np.zeros(len(r), bool)
     undecided = np.ones(len(r), bool)
     for d in range(depth, 1, -1):
-        tier, _ = H.safe_tier(full, moves, d)
+        tier, after = H.safe_tier(full, moves, d)
         strict = allowed & tier[ys, xs]
+        if spare:
+            wide = strict & (np.sum(exits & after[ay, ax], axis=-1) >= 2)
+            strict = np.where(wide.any(axis=1)[:, None], wide, strict)
         usable = strict.any(axis=1) & undecided
         expected = np.where(usable[:, None], strict, expected)
         expected_threat |= usable & ~strict[:, 0]
