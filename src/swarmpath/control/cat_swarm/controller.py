@@ -96,6 +96,8 @@ class CatSwarmController(Controller):
         finish_together : with moving obstacles, all robots step onto their goals at once
             when that step has no contact, which ends the run (True; see ``pibt`` and
             :mod:`swarmpath.control.finish`).
+        hover : within this many cells of its goal a robot keeps only the next step clear
+            instead of ``leave_early`` steps (None: nowhere; 0: on its goal; see ``pibt``).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -104,7 +106,9 @@ class CatSwarmController(Controller):
                  obstacle_alert: str = "long", margin: int = 0, lookahead: int = 5, leave_early: int = 2,
                  hazard_horizon: int = 4, hazard_weight: float = 2.0, hazard_decay: float = 0.7, lead: bool = True,
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
-                 stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True):
+                 stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
+                 hover: int | None = None):
+        self.hover = hover
         self.finish_together = finish_together
         self.stalled_lookahead = stalled_lookahead
         self.relax_after = relax_after
@@ -339,7 +343,12 @@ class CatSwarmController(Controller):
         threatened[r] = threat
         # and, among those, prefer cells an obstacle cannot reach soon (leave early)
         safety = np.where(valid, self.leave_early, -1)
-        safety[r] = np.where(v, hz.at(stay_depth(hz.covered[:self.leave_early], hz.covered.shape[1:]), dest), -1)
+        depth = hz.at(stay_depth(hz.covered[:self.leave_early], hz.covered.shape[1:]), dest)
+        if self.hover is not None:
+            # within `hover` cells of its goal a robot keeps one step clear only (see pibt)
+            near = np.abs(cells[r] - self.goal_cells_[r]).max(axis=1) <= self.hover
+            depth = np.where(near[:, None], np.minimum(depth, min(1, self.leave_early)), depth)
+        safety[r] = np.where(v, depth, -1)
         valid = valid.copy()
         valid[r] = v
         threatened |= safety.max(axis=1) > safety[:, K.STAY]
