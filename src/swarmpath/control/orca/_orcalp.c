@@ -52,6 +52,12 @@ static int get(PyObject *obj, Arg *a, int writable, char kind, const char *name)
     return 0;
 }
 
+/* Release the buffers of the first n arguments that get() took. */
+static void release(Arg *a, int n) {
+    for (int q = 0; q < n; q++)
+        if (a[q].held) PyBuffer_Release(&a[q].buf);
+}
+
 static inline double det(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
 /* One line: point (L[0], L[1]), direction (L[2], L[3]). */
@@ -232,8 +238,7 @@ static PyObject *solve(PyObject *self, PyObject *args) {
     Py_INCREF(result);
 done:
     free(proj);
-    for (int q = 0; q < 8; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 8);
     return result;
 }
 
@@ -435,8 +440,7 @@ done:
     free(best_d);
     free(best_i);
     grid_free(&g);
-    for (int q = 0; q < 3; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 3);
     return result;
 }
 
@@ -540,8 +544,7 @@ static PyObject *robot_halfplanes(PyObject *self, PyObject *args) {
     result = Py_None;
     Py_INCREF(result);
 done:
-    for (int q = 0; q < 8; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 8);
     return result;
 }
 
@@ -583,8 +586,7 @@ static PyObject *count_lines(PyObject *self, PyObject *args) {
     result = Py_None;
     Py_INCREF(result);
 done:
-    for (int q = 0; q < 5; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 5);
     return result;
 }
 
@@ -649,8 +651,7 @@ static PyObject *pack_lines(PyObject *self, PyObject *args) {
     Py_INCREF(result);
 done:
     free(cursor);
-    for (int q = 0; q < 7; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 7);
     return result;
 }
 
@@ -843,8 +844,7 @@ done:
     free(lower);
     free(moving);
     grid_free(&g);
-    for (int q = 0; q < 6; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 6);
     return result;
 }
 
@@ -896,8 +896,7 @@ static PyObject *tidy(PyObject *self, PyObject *args) {
     result = Py_None;
     Py_INCREF(result);
 done:
-    for (int q = 0; q < 5; q++)
-        if (a[q].held) PyBuffer_Release(&a[q].buf);
+    release(a, 5);
     return result;
 }
 
