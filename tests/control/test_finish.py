@@ -97,3 +97,13 @@ def test_no_finish_when_a_robot_is_out_of_reach_or_two_robots_would_swap() -> No
     stepper.reset(0)
     stepper.begin_step()
     assert finish_positions(far, stepper.observation()) is None         # two cells away
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+@pytest.mark.parametrize("hover", [-1, 1.5, "near", True])
+def test_a_bad_hover_is_one_clear_error(controller, hover) -> None:
+    from swarmpath.registry import CONTROLLERS
+
+    world = next(w for w in (random_case(np.random.default_rng(s), 0.0) for s in range(50)) if w is not None)
+    with pytest.raises(ConfigError, match="hover must be a whole number"):
+        CONTROLLERS.get(controller)(hover=hover).reset(world, None, np.random.default_rng(0))

@@ -70,9 +70,13 @@ def finish_positions(world: World, obs: Observation) -> FloatArray | None:
     return goals.copy()
 
 
-def finishing_decision(home: FloatArray, obs: Observation) -> Decision:
-    """The Decision of the finishing step: every robot to its goal, an event naming how many
-    robots stepped home together."""
+def finishing_step(world: World, obs: Observation) -> Decision | None:
+    """The Decision of the finishing step (every robot to its goal, an event naming how many
+    robots stepped home together) when :func:`finish_positions` allows it this step; else
+    None and the controller acts as usual."""
+    home = finish_positions(world, obs)
+    if home is None:
+        return None
     moved = int(np.count_nonzero(np.any(home != obs.positions, axis=1)))
     return Decision(home, ["arrived"] * len(home),
                     [{"robot": -1, "kind": "finish_together", "detail": f"{moved} robots stepped onto their goals"}])

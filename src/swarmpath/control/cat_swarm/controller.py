@@ -43,7 +43,7 @@ from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
-from swarmpath.control.finish import finish_positions, finishing_decision
+from swarmpath.control.finish import finishing_step
 from swarmpath.control.hazards import ObstacleForecast, hazard_windows, stay_depth, warning_levels
 from swarmpath.control.observation import CLASS_INDEX, Observation
 from swarmpath.control.pibt.core import (
@@ -145,6 +145,9 @@ class CatSwarmController(Controller):
             raise ConfigError(f"cat-swarm: lookahead must be >= 1, got {self.lookahead}")
         if not 0 <= self.leave_early <= self.lookahead:
             raise ConfigError(f"cat-swarm: leave_early must be in [0, lookahead], got {self.leave_early}")
+        if self.hover is not None and (isinstance(self.hover, bool) or not isinstance(self.hover, (int, np.integer))
+                                       or self.hover < 0):
+            raise ConfigError(f"cat-swarm: hover must be a whole number >= 0 or None, got {self.hover!r}")
         if (self.patience is not None and self.patience < 1) or self.report_after < 1:
             raise ConfigError("cat-swarm: patience (or None) and report_after must be >= 1")
 
@@ -238,9 +241,9 @@ class CatSwarmController(Controller):
         if n == 0:
             return Decision(obs.positions.copy(), [])
         if self.finish_together and self.forecast_ is not None:
-            home = finish_positions(self.world_, obs)
-            if home is not None:
-                return finishing_decision(home, obs)
+            done = finishing_step(self.world_, obs)
+            if done is not None:
+                return done
         pos, goals, at_goal = obs.positions, obs.goals, obs.at_goal
         rows = np.arange(n)
         active = ~at_goal

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
-from swarmpath.control.finish import finish_positions, finishing_decision
+from swarmpath.control.finish import finishing_step
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import ObstacleForecast, hazard_windows, stay_depth
 from swarmpath.control.observation import Observation
@@ -201,9 +201,9 @@ class PIBTController(Controller):
         pos = obs.positions
         n = len(pos)
         if self.finish_together and self.forecast_ is not None:
-            home = finish_positions(self.world_, obs)
-            if home is not None:
-                return finishing_decision(home, obs)
+            done = finishing_step(self.world_, obs)
+            if done is not None:
+                return done
         cells = self._cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
         dist = self._distances(cells, in_goal_cell)
