@@ -83,7 +83,9 @@ def test_tiers_on_windows_are_the_whole_grid_cascade(seed, spare):
     h, w = grid.blocked.shape
     xs, ys = np.clip(dest[..., 0], 0, w - 1), np.clip(dest[..., 1], 0, h - 1)
     allowed = K.moves_at(grid.blocked, cells[r]) & ~full[0][ys, xs]
-    got, threatened = hz.tiers(allowed, dest, depth, spare=spare)
+    fallback = rng.random(len(r)) < 0.3
+    got, threatened, rank, ways = hz.tiers(allowed, dest, depth, spare=spare)
+    kept, threatened_too, rank_too, ways_too = hz.tiers(allowed, dest, depth, spare=spare, fallback=fallback)
     # the whole-grid reference
     exits = K.moves_at(grid.blocked, np.stack([xs, ys], axis=-1).reshape(-1, 2)).reshape(len(r), 9, 9)
     around = np.stack([xs, ys], axis=-1)[:, :, None, :] + K.OFFSETS
@@ -91,9 +93,19 @@ def test_tiers_on_windows_are_the_whole_grid_cascade(seed, spare):
     expected = allowed.copy()
     expected_threat = np.zeros(len(r), bool)
     undecided = np.ones(len(r), bool)
+    # each candidate's rank: 2 per tier below the deepest (the deepest tier d it lies in; tier 1:
+    # in none from 2 up), 1 more for a single way on there (with the spare way)
+    expected_rank = np.full(allowed.shape, 2 * (depth - 1))
+    expected_ways = np.zeros(allowed.shape, np.int64)
+    seen = np.zeros(allowed.shape, bool)
     for d in range(depth, 1, -1):
         tier, after = H.safe_tier(full, moves, d)
         strict = allowed & tier[ys, xs]
+        n_ways = np.sum(exits & after[ay, ax], axis=-1)
+        new = strict & ~seen
+        expected_rank[new] = (2 * (depth - d) + (spare & (n_ways < 2)))[new]
+        expected_ways[new] = n_ways[new]
+        seen |= new
         if spare:
             wide = strict & (np.sum(exits & after[ay, ax], axis=-1) >= 2)
             strict = np.where(wide.any(axis=1)[:, None], wide, strict)
@@ -103,6 +115,12 @@ def test_tiers_on_windows_are_the_whole_grid_cascade(seed, spare):
         undecided &= ~usable
     assert np.array_equal(got, expected)
     assert np.array_equal(threatened, expected_threat)
+    assert np.array_equal(rank[allowed], expected_rank[allowed])
+    assert np.array_equal(ways[allowed], expected_ways[allowed])
+    # robots with a fallback keep every candidate (ranked the same); the others are cut as before
+    assert np.array_equal(kept, np.where(fallback[:, None], allowed, expected))
+    assert np.array_equal(threatened_too, threatened) and np.array_equal(rank_too, rank)
+    assert np.array_equal(ways_too, ways)
     assert (allowed & ~got).any()   # the look-ahead really cut candidates here
 
 
@@ -118,3 +136,12 @@ def test_only_robots_an_obstacle_can_reach_get_a_window():
     near = np.array([np.min(np.max(np.abs(now - (c + 0.5)), axis=1)) <= reach for c in cells])
     assert hz is not None and np.array_equal(np.sort(hz.rows), np.flatnonzero(near))
     assert hz.covered.shape == (5, len(hz.rows), 11, 11)   # windows, never the 60 x 60 grid
+
+
+def test_cornered_penalty_only_for_robots_without_a_deepest_tier_cell():
+    allowed = np.array([[True, True, False], [True, True, True]])
+    rank = np.array([[0, 2, 0], [2, 3, 2]])
+    ways = np.array([[1, 4, 9], [5, 1, 3]])
+    out = H.cornered_penalty(allowed, rank, ways)
+    assert out[0].tolist() == [0, 0, 0]          # has a candidate of rank 0: no penalty
+    assert out[1].tolist() == [4, 8, 6]          # 9 - ways: most ways on ranks first

@@ -190,6 +190,48 @@ def test_a_robot_left_without_a_way_out_chooses_first_on_the_retry():
     assert both.conflicts == 0
 
 
+def test_three_robots_fleeing_side_by_side_all_get_out_on_a_later_try():
+    """Three robots in a column must leave (an obstacle may reach them all); each may step east
+    or diagonally east. The greedy order lets the outer two take both cells the middle one
+    could reach, or cross its diagonal; with the middle one first the top one is left
+    behind. The retries are built from the last try (the robots that failed there first),
+    so the third try moves all three east. A robot that moved to a worse tier than its best
+    counts as failed, but a robot left standing in danger weighs more: a try that only
+    degrades one beats a try that leaves one standing."""
+    from swarmpath.control.pibt.core import pibt_step_escaping
+
+    east, north_east, south_east, north, south = 1, 2, 8, 3, 7
+    blocked = np.zeros((3, 4), bool)
+    graph = GridGraph.build(blocked, 8, 0.0, 1.0)
+    cells = np.array([[0, 0], [0, 1], [0, 2]])           # bottom, middle, top
+    flat = (cells[:, 1] * 4 + cells[:, 0]).astype(np.int32)
+    allowed = np.zeros((3, 9), bool)
+    allowed[0, [east, north_east]] = True
+    allowed[1, [east, north_east, south_east]] = True
+    allowed[2, [east, south_east]] = True
+    dist = np.full((3, 9), 9.0)
+    dist[0, north_east], dist[0, east] = 1.0, 2.0
+    dist[1, north_east], dist[1, east], dist[1, south_east] = 1.0, 2.0, 3.0
+    dist[2, east], dist[2, south_east] = 1.0, 2.0
+    order = np.array([0, 2, 1], np.int32)                # the middle one decides last
+    kw = {"goals": flat.copy()}
+    danger = np.ones(3, bool)
+    plain = pibt_step(graph, flat, dist, allowed, np.zeros((3, 9)), order, **kw)
+    assert plain.moves[1] == STAY                        # the middle one is left in the way
+    out = pibt_step_escaping(graph, flat, dist, allowed, np.zeros((3, 9)), order, danger=danger, **kw)
+    assert out.moves.tolist() == [east, east, east] and out.conflicts == 0
+    # ranks: the middle robot may also go north or south (tier 1 there, rank 4); the greedy
+    # order degrades it, a retry gets it a cell of its best tier
+    allowed[1, [north, south]] = True
+    dist[1, [north, south]] = 0.5 + 4e8
+    rank = np.zeros((3, 9), np.int64)
+    rank[1, [north, south]] = 4
+    first = pibt_step(graph, flat, dist, allowed, np.zeros((3, 9)), order, **kw)
+    assert first.moves[1] in (north, south)
+    out = pibt_step_escaping(graph, flat, dist, allowed, np.zeros((3, 9)), order, danger=danger, rank=rank, **kw)
+    assert out.moves.tolist() == [east, east, east]
+
+
 def test_priorities_follow_section_3_2():
     base = np.array([0.1, 0.7, 0.3])
     p = update_priorities(base.copy(), np.array([False, True, False]), base)

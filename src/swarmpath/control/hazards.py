@@ -462,18 +462,28 @@ class HazardWindows:
         return grid[rows, c[..., 1], c[..., 0]]
 
     def tiers(self, allowed: BoolArray, dest: IntArray, depth: int | IntArray, exits: BoolArray | None = None,
-              spare: bool = True) -> tuple[BoolArray, BoolArray]:
+              spare: bool = True, fallback: BoolArray | None = None
+              ) -> tuple[BoolArray, BoolArray, IntArray, IntArray]:
         """Keep each robot to the most cautious tier that leaves it a candidate: for d =
         ``depth`` (one for all, or (r,) per robot) down to 2, the candidates (``allowed`` (r,
         9), reaching cells ``dest`` (r, 9, 2)) from which the robot can keep clear for d
-        steps; a robot with none keeps its candidates for the next d. ``exits`` (r, 9, 9): the moves a robot can make after each
-        candidate (default: the static moves of the candidate's cell; less from an exact goal
-        off its cell centre). With ``spare`` (default) a robot in a tier keeps to the
-        candidates that leave two ways on (moves the step after, standing included) when it
-        has any: two robots fleeing the same obstacle toward one way out used to be cornered,
-        one of them (on 3 of 30 seeds of the 64 x 64 acceptance world, for pibt and cat-swarm
-        alike; none with the spare way). Returns (allowed, threatened): threatened robots must
-        leave their cell to stay in their tier."""
+        steps; a robot with none keeps its candidates for the next d. ``exits`` (r, 9, 9): the
+        moves a robot can make after each candidate (default: the static moves of the
+        candidate's cell; less from an exact goal off its cell centre). With ``spare``
+        (default) a robot in a tier keeps to the candidates that leave two ways on (moves the
+        step after, standing included) when it has any: two robots fleeing the same obstacle
+        toward one way out used to be cornered, one of them (on 3 of 30 seeds of the 64 x 64
+        acceptance world, for pibt and cat-swarm alike; none with the spare way).
+
+        ``fallback`` (r,) marks robots that keep all their candidates, ranked instead of cut:
+        a robot an obstacle may reach where it stands must leave, and when the cells of its
+        deepest tier are taken by other robots a shallower one beats staying.
+
+        Returns (allowed, threatened, rank, ways): threatened robots must leave their cell to
+        stay in their tier; rank (r, 9) orders the candidates from the most cautious (0): two
+        steps per tier below the robot's ``depth``, one more for a single way on in its tier
+        (with ``spare``); ways (r, 9): how many ways on each candidate leaves in its tier (0
+        outside every tier from 2 up)."""
         r = len(self.rows)
         allowed = np.asarray(allowed, bool).copy()
         threatened = np.zeros(r, bool)
@@ -483,10 +493,19 @@ class HazardWindows:
         around = np.asarray(dest)[..., None, :] + GRID_MOVES            # (r, 9, 9, 2)
         base = allowed.copy()
         depth = np.broadcast_to(np.asarray(depth, np.int64), (r,))
-        for d in range(int(depth.max(initial=0)), 1, -1):
+        top = int(depth.max(initial=0))
+        # candidates in no tier from 2 up rank as tier 1 (clear of the next step only)
+        rank = np.broadcast_to(2 * (np.maximum(depth, 1) - 1)[:, None], base.shape).copy()
+        ranked = np.zeros(base.shape, bool)
+        way_count = np.zeros(base.shape, np.int64)
+        for d in range(top, 1, -1):
             _, then = safe_tier(self.covered, self.moves, d)
             ways = np.sum(exits & self.at(then, around), axis=-1)
             strict = base & ~self.at(self.covered[0], dest) & (ways > 0)
+            fresh = strict & ~ranked & (depth >= d)[:, None]
+            rank = np.where(fresh, 2 * (depth[:, None] - d) + (spare & (ways < 2)), rank)
+            way_count = np.where(fresh, ways, way_count)
+            ranked |= fresh
             if spare:
                 # two ways on rather than one where some candidate has them: another robot
                 # fleeing the same obstacle may take a single way out first
@@ -496,9 +515,20 @@ class HazardWindows:
             allowed = np.where(usable[:, None], strict, allowed)
             threatened |= usable & ~strict[:, 0]
             undecided &= ~usable
-            if not undecided.any():
-                break
-        return allowed, threatened
+        if fallback is not None:
+            allowed = np.where(np.asarray(fallback, bool)[:, None], base, allowed)
+        return allowed, threatened, rank, way_count
+
+
+def cornered_penalty(allowed: BoolArray, rank: IntArray, ways: IntArray) -> IntArray:
+    """For robots with no candidate in their deepest look-ahead tier (obstacles closing in:
+    the best ``rank`` among ``allowed`` (r, 9) is above 0): 9 minus the ways on each candidate
+    leaves (``ways`` from :meth:`HazardWindows.tiers`), so that among equally safe cells such a
+    robot takes the one with the most ways on, not the one nearest its goal; 0 for the other
+    robots. A robot waiting by a wall or in a corner as obstacles close in was cornered
+    within three steps (64 x 64 acceptance world: 4 of 100 seeds with a contact instead of 7)."""
+    best = np.where(allowed, rank, np.iinfo(np.int64).max).min(axis=1)
+    return np.where((best > 0)[:, None], 9 - np.asarray(ways), 0)
 
 
 def hazard_windows(forecast: ObstacleForecast, positions: FloatArray, previous: FloatArray, robots: FloatArray,

@@ -254,7 +254,9 @@ static int pibt(Ctx *c, int i, int parent) {
         cand[p] = a;
     }
     int sw = -1;
-    if (c->swap && nc > 0) {
+    /* no swap manoeuvre for a robot that must leave its cell (a moving obstacle may reach it):
+       the reversed order would try its least safe cells first */
+    if (c->swap && nc > 0 && c->allowed[(Py_ssize_t)i * NMOVES]) {
         sw = swap_agent(c, i, (y + MY[cand[0]]) * c->w + (x + MX[cand[0]]));
         if (sw >= 0)
             for (int l = 0, r = nc - 1; l < r; l++, r--) { int t = cand[l]; cand[l] = cand[r]; cand[r] = t; }

@@ -24,7 +24,7 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.grid_robots import check_grid_robots
-from swarmpath.control.hazards import ObstacleForecast, hazard_windows, stay_depth
+from swarmpath.control.hazards import ObstacleForecast, cornered_penalty, hazard_windows, stay_depth
 from swarmpath.control.observation import Observation
 from swarmpath.control.pibt.core import (
     DIAGONAL_MOVE,
@@ -49,6 +49,9 @@ FloatArray = NDArray[np.float64]
 MOVE_COST = np.linalg.norm(GRID_MOVES, axis=1)
 #: Added to a candidate's distance per step it is less clear of obstacles than the clearest.
 CLEAR_WEIGHT = 1e6
+#: Added per rank of the look-ahead (``HazardWindows.tiers``): a robot that must leave takes a
+#: less cautious cell only when the more cautious ones are taken.
+TIER_WEIGHT = 1e8
 
 
 @register_controller("pibt")
@@ -71,15 +74,17 @@ class PIBTController(Controller):
         With moving obstacles: how many steps beyond the next a robot makes sure it can keep
         clear of every obstacle whatever the obstacles do: it keeps to the deepest tier of
         :meth:`~swarmpath.control.hazards.HazardWindows.tiers` that leaves it a candidate (a
-        dead end an obstacle is heading into is left while it still can be). 1 (default):
-        the step after next; 0: the next step only.
+        dead end an obstacle is heading into is left while it still can be). 2 (default):
+        two steps beyond the next; 0: the next step only. A robot that must leave its cell
+        keeps every candidate, ranked by these tiers (a shallower one only when the deeper ones
+        are taken), and one with no candidate in its deepest tier takes the cell with most ways
+        on (:func:`~swarmpath.control.hazards.cornered_penalty`).
     leave_early : int
         With moving obstacles: robots an obstacle can reach rank first the candidates that
         stay clear of every obstacle longest over this many steps, and leave a cell an
         obstacle may reach that soon when a clearer one is free; 0 (default) ranks by
-        distance alone. ``lookahead=4, leave_early=2`` is as cautious as ``cat-swarm``: no
-        contact among the 20 never-stopping obstacles of the 64 x 64 acceptance test, where
-        the defaults leave robots cornered now and then; in dense patrols it arrives less.
+        distance alone. Larger values keep robots farther from obstacles, so they are
+        seldom all home at once among obstacles that never stop (docs/algorithms/pibt.md).
     landmarks : int or "auto"
         Landmark cells of the distance tables' differential heuristic ("auto": 8 when there is
         a robot per 4,096 free cells or more, else 0; 0: octile only): about half the cells
@@ -102,7 +107,7 @@ class PIBTController(Controller):
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
-    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 1,
+    def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 2,
                  landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0,
                  finish_together: bool = True, hover: int | None = None):
         self.hover = hover
@@ -218,6 +223,7 @@ class PIBTController(Controller):
         allowed[:, STAY] = True
         urgent = np.zeros(n, bool)
         threatened = np.zeros(n, bool)
+        ranks = np.zeros((n, 9), np.int64)
         hz = None
         if self.forecast_ is not None:
             hz = hazard_windows(self.forecast_, obs.obstacle_positions, obs.obstacle_previous, pos, cells,
@@ -235,8 +241,12 @@ class PIBTController(Controller):
                 reach_targets, _ = self._targets(pos, cells, check)
                 allowed[check] &= ~self.forecast_.crossings(pos[check], reach_targets, obs.obstacle_positions)
             if self.lookahead:
-                # keep out of cells that leave no way out later, unless nothing else is left
-                allowed[rows], threatened[rows] = hz.tiers(allowed[rows], dest, 1 + self.lookahead)
+                # keep out of cells that leave no way out later, unless nothing else is left; a
+                # robot that must leave may fall back to less cautious cells, in rank order
+                allowed[rows], threatened[rows], rank, ways = hz.tiers(allowed[rows], dest, 1 + self.lookahead,
+                                                                       fallback=urgent[rows])
+                dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
+                ranks[rows] = rank
             if self.leave_early:
                 # prefer the candidates that stay clear of every obstacle longest (up to leave_early steps;
                 # one step for robots within `hover` cells of their goals, which wait beside it)
@@ -256,8 +266,8 @@ class PIBTController(Controller):
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
         goal_flat = (self.goal_cells_[:, 1] * self.width_ + self.goal_cells_[:, 0]).astype(np.int32)
         result = pibt_step_escaping(self.graph_, flat, np.nan_to_num(dist, nan=np.inf), allowed, tie, order,
-                                    danger=urgent, goals=goal_flat, slots=self.handles_, tables=self.tables_._c,
-                                    swap=self.swap, yield_way=self.yield_way)
+                                    danger=urgent, rank=ranks, goals=goal_flat, slots=self.handles_,
+                                    tables=self.tables_._c, swap=self.swap, yield_way=self.yield_way)
         moves = result.moves.astype(np.int64)
         new = centre + GRID_MOVES[moves] * self.grid_.resolution
         new[special] = special_targets[np.arange(len(special)), moves[special]]

@@ -191,39 +191,54 @@ def pibt_step(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allo
 
 
 def pibt_step_escaping(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allowed: BoolArray,
-                       tie: FloatArray, order: NDArray[np.int32], *, danger: BoolArray, rounds: int = 3,
-                       **kwargs) -> StepResult:
+                       tie: FloatArray, order: NDArray[np.int32], *, danger: BoolArray,
+                       rank: NDArray[np.int64] | None = None, rounds: int = 3, **kwargs) -> StepResult:
     """:func:`pibt_step`, retried when a robot that must leave its cell (its stay is not
-    allowed: a moving obstacle may reach it) could not: the robots that failed decide first
-    in the next try, up to ``rounds`` tries; the try with the fewest robots left in
-    ``danger`` (n,), then the fewest others that had to leave, wins (the first on ties).
+    allowed: a moving obstacle may reach it) could not, or when a robot in ``danger`` (n,)
+    got a worse ``rank`` (n, 9; the look-ahead's, lower is more cautious) than its best
+    candidate's: the robots that failed decide first in the next try, up to ``rounds`` tries;
+    the try with the fewest robots left standing in danger, then the fewest in danger on a
+    worse cell, then the fewest others failed, wins (the first on ties).
 
     PIBT decides greedily in priority order, so a robot with two ways out may take the one
     a neighbour needed, or cross its diagonal; letting the robot that was left without a way
-    out choose first resolves such pairs. Without moving obstacles every stay is allowed and
-    this is one :func:`pibt_step`."""
+    out (or with a worse one) choose first resolves such pairs: three robots side by side
+    fleeing an obstacle onto three cells, the middle one deciding last. Without moving
+    obstacles every stay is allowed and this is one :func:`pibt_step`."""
     res = pibt_step(graph, cells, dist, allowed, tie, order, **kwargs)
-    must = ~np.asarray(allowed, bool)[:, STAY]
+    ok = np.asarray(allowed, bool)
+    must = ~ok[:, STAY]
     danger = np.asarray(danger, bool)
+    if rank is not None:
+        rank = np.asarray(rank)
+        best_rank = np.where(ok, rank, np.iinfo(np.int64).max).min(axis=1)
+        rows = np.arange(len(cells))
 
     def failed(r: StepResult) -> NDArray[np.bool_]:
-        return must & (r.moves == STAY)
+        f = must & (r.moves == STAY)
+        if rank is not None:
+            f |= danger & (rank[rows, r.moves.astype(np.int64)] > best_rank)
+        return f
 
-    def cost(r: StepResult) -> tuple[int, int]:
+    def cost(r: StepResult) -> tuple[int, int, int]:
+        # robots left standing in danger weigh most, then robots in danger on a worse cell
         f = failed(r)
-        return int(np.sum(f & danger)), int(np.sum(f))
+        stood = must & (r.moves == STAY)
+        return int(np.sum(stood & danger)), int(np.sum(f & danger)), int(np.sum(f))
 
     best, best_cost = res, cost(res)
     o = np.asarray(order, np.int32)
+    last = res
     for _ in range(rounds):
-        stuck = failed(best)
+        # the robots that failed in the last try go first, in the order they had
+        stuck = failed(last)
         if not stuck.any():
             break
         front = o[stuck[o]]
         front = np.concatenate([front[danger[front]], front[~danger[front]]])
         o = np.concatenate([front, o[~stuck[o]]]).astype(np.int32)
-        r = pibt_step(graph, cells, dist, allowed, tie, o, **kwargs)
-        c = cost(r)
+        last = pibt_step(graph, cells, dist, allowed, tie, o, **kwargs)
+        c = cost(last)
         if c < best_cost:
-            best, best_cost = r, c
+            best, best_cost = last, c
     return best
