@@ -87,61 +87,47 @@ def random_world(seed: int, n_robots: int = 100, n_moving: int = 20, size: int =
                  robots=robots, name=f"random64-{seed}")
 
 
-#: The controllers of the 100-robot test: cat-swarm as it is, and pibt as cautious as cat-swarm
-#: among moving obstacles (its defaults look one step less far and get cornered now and then).
-ON_THE_CORE = {"cat-swarm": {}, "pibt": {"lookahead": 4, "leave_early": 2}}
-
-
-def checked_run(controller: str, params: dict, seed: int) -> tuple:
-    """250 steps of ``controller`` in the 64 x 64 world of ``seed``, checked: no contact of
-    any kind and every robot on its goal at some step. Returns the trajectory and which
-    robots stand on their goals at each step (steps + 1, n)."""
+def checked_run(controller: str, seed: int, **params) -> tuple:
+    """``controller`` (defaults, or ``params``) in the 64 x 64 world of ``seed`` with the
+    simulator's own step budget, checked: no robot-robot or robot-static contact, a contact
+    with a moving obstacle only where the robot had reported that no move led out, and every
+    robot on its goal at some step. Returns the trajectory and whether the run is a success
+    (every robot on its goal at the end, no contact of any kind)."""
     from swarmpath.registry import CONTROLLERS
 
     world = random_world(seed)
     traj = Simulator(world, CONTROLLERS.get(controller)(**params), PLANNERS.get("astar")().plan(world, rng=seed),
-                     seed=seed, max_steps=250).run()
-    assert validate_trajectory(world, traj) == [], (controller, seed)
+                     seed=seed).run()
+    problems = validate_trajectory(world, traj)   # the independent check finds the recorded contacts only
+    assert len(problems) == len(traj.contacts), (controller, seed)
+    assert all(c.kind == "robot_moving" for c in traj.contacts), (controller, seed)
+    cornered = {(e["step"], e["robot"]) for e in traj.events if e.get("kind") == "no_escape"}
+    assert all((c.step, c.robot) in cornered or (c.step - 1, c.robot) in cornered for c in traj.contacts), seed
     at = np.linalg.norm(traj.positions - world.goals[None], axis=2) <= 1e-9
     assert at.any(axis=0).all(), (controller, seed)
-    return traj, at
+    success = bool(at[-1].all()) and not problems
+    if traj.status == "all_reached":
+        assert at[-1].all() and any(e["kind"] == "finish_together" and e["step"] == traj.n_steps
+                                    for e in traj.events), (controller, seed)
+    return traj, success
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("controller", sorted(ON_THE_CORE))
-def test_100_robots_among_20_moving_obstacles_collision_free(controller) -> None:
-    """10 seeds, 250 steps: no contact of any kind, every robot reaches its goal, and at the
-    last step at least 80 % stand on it. The obstacles never stop, so robots keep stepping
-    off their goals to let them pass; all 100 end on their goals at once only where they can
-    step on together (the next test)."""
-    ends = []
-    for seed in range(10):
-        traj, at = checked_run(controller, ON_THE_CORE[controller], seed)
-        ends.append(at[-1].mean())
-        print(f"\nrandom64 {controller} seed {seed}: collisions 0, reached 100%, at goal at the end {at[-1].mean():.0%} "
-              f"({traj.status}), robots at their goals over the last 100 steps {at[-100:].mean():.1%}")
-    assert min(ends) >= 0.8
-
-
-#: Robots on their goals keep only the next step clear (``hover=0``), so more of them stay home.
-STAYING_HOME = {"cat-swarm": {"hover": 0}, "pibt": {"lookahead": 4, "leave_early": 2, "hover": 0}}
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("controller", sorted(STAYING_HOME))
-def test_robots_staying_on_goals_and_finishing_together(controller) -> None:
-    """The same world, 10 seeds, 250 steps, robots staying on their goals until an obstacle
-    may come next step: no contact of any kind, every robot reaches its goal, and on 3 seeds
-    or more all 100 end on their goals at once, in the finishing step (pibt 3, cat-swarm 4;
-    without ``hover`` 1 and 2)."""
-    home = 0
-    for seed in range(10):
-        traj, at = checked_run(controller, STAYING_HOME[controller], seed)
-        if traj.status == "all_reached":
-            assert at[-1].all(), (controller, seed)
-            assert any(e["kind"] == "finish_together" and e["step"] == traj.n_steps for e in traj.events), seed
-            home += 1
-    assert home >= 3, (controller, home)
+@pytest.mark.parametrize("controller", ["cat-swarm", "pibt"])
+def test_100_robots_among_20_moving_obstacles_all_home_at_once(controller) -> None:
+    """20 seeds, the controllers' defaults: every robot reaches its goal, no robot-robot or
+    robot-static contact, a robot-moving contact only after the robot reported ``no_escape``;
+    and on 18 seeds or more every robot stands on its goal at the end with no contact of any
+    kind (the run ends in the step on which all step home together; pibt 20, cat-swarm 18 of
+    these 20; over seeds 0-99 both 94: docs/algorithms/pibt.md). The obstacles never stop,
+    and a robot waiting in a corner can be pinned by two of them at once."""
+    wins = 0
+    for seed in range(20):
+        traj, success = checked_run(controller, seed)
+        wins += success
+        print(f"\nrandom64 {controller} seed {seed}: {traj.status} at step {traj.n_steps}, "
+              f"contacts {len(traj.contacts)}, success {success}")
+    assert wins >= 18, (controller, wins)
 
 
 def goal_danger_steps(seed: int, steps: int = 250) -> tuple[np.ndarray, int]:

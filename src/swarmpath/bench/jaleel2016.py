@@ -176,11 +176,9 @@ def ladder_rungs() -> list[Rung]:
              ours(**paper_values)),
         Rung("alert at the long class (`obstacle_alert=\"long\"`)", "reacting one class later than the "
              "obstacle's reach", ours(**{**paper_values, "obstacle_alert": "long"})),
-        Rung("look-ahead escape over 5 steps (`lookahead=5`; 2 for a robot without progress for 20 steps)",
+        Rung("look-ahead escape over 3 steps (`lookahead=3`; 2 for a robot without progress for 20 steps)",
              "a robot cornered in a dead end or on an obstacle's line",
-             ours(lookahead=5, leave_early=0, hazard_weight=0.0)),
-        Rung("leave early, 2 steps (`leave_early=2`)", "a robot parked where an obstacle arrives next",
-             ours(hazard_weight=0.0)),
+             ours(lookahead=3, leave_early=0, hazard_weight=0.0)),
         Rung("warning term in the fitness (`hazard_weight=2`) = `cat-swarm`", "robots drifting into an "
              "obstacle's path before the hard rules bind", CatSwarmController),
     ]
