@@ -145,3 +145,99 @@ def test_cornered_penalty_only_for_robots_without_a_deepest_tier_cell():
     out = H.cornered_penalty(allowed, rank, ways)
     assert out[0].tolist() == [0, 0, 0]          # has a candidate of rank 0: no penalty
     assert out[1].tolist() == [4, 8, 6]          # 9 - ways: most ways on ranks first
+
+
+# ---------------------------------------------------------------------------- forecasts against the models
+class _Choose:
+    """An rng stand-in for the motion models: ``choice`` returns option ``k`` and records how
+    many options there were, so every branch a model can take is run in turn."""
+
+    def __init__(self, k: int = 0):
+        self.k, self.options = k, 1
+
+    def choice(self, options):
+        self.options = len(options)
+        return options[self.k]
+
+
+def bounce_futures(world, ob, p, v, steps):
+    """Every sweep (from, to) the bounce or bounce8 model can make at step 1 ... ``steps``
+    from position ``p`` with velocity ``v``, found by running the model's own step with each
+    choice."""
+    from swarmpath.world.motions._straight import straight_step
+
+    out = [[] for _ in range(steps)]
+
+    def go(p, v, k):
+        if k == steps:
+            return
+        probe = _Choose()
+        eight = ob.motion.new_direction_on_hit
+        straight_step(world, ob, p, v, world.dt, probe, eight=eight)
+        for i in range(probe.options):
+            q, w = straight_step(world, ob, p, v, world.dt, _Choose(i), eight=eight)
+            out[k].append((p, q))
+            go(q, w, k + 1)
+
+    go(np.asarray(p, float), np.asarray(v, float), 0)
+    return out
+
+
+@pytest.mark.parametrize("motion", [Bounce8(), Bounce()], ids=["bounce8", "bounce"])
+@pytest.mark.parametrize("seed", range(8))
+def test_bounce_coverage_is_exactly_every_future_of_the_model(seed, motion):
+    """A moving bounce or bounce8 obstacle turns only where it is blocked: D_2 ... D_4 hold
+    exactly the cells of the sweeps the model can make (no box around the place of the first
+    turn); D_1 may hold more for bounce (every reflection, in case the heading is unsure)."""
+    rng = np.random.default_rng(seed)
+    size = 14
+    blocked = rng.random((size, size)) < 0.2
+    free = np.argwhere(~blocked)[:, ::-1]
+    start = free[rng.integers(len(free))] + 0.5
+    heading = H.UNIT_DIRECTIONS[rng.integers(8)] * (1.0 if seed % 2 else 0.7)
+    shape = Rect((-0.5, -0.5), (0.5, 0.5)) if seed % 3 else Circle((0, 0), 0.35)
+    ob = MovingObstacle("m", shape, tuple(start), tuple(heading), motion)
+    world = World(RectBounds(size, size), static_map=StaticMap(blocked), moving_obstacles=(ob,),
+                  robots=(Robot("a", tuple(free[0] + 0.5), tuple(free[-1] + 0.5), 0.0, S2),), name="b8")
+    fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.1 * (seed % 3))
+    now = np.array([start])
+    coverage = fc.coverage(now, now - heading * world.dt, 4)
+    for k, sweeps in enumerate(bounce_futures(world, ob, start, heading, 4)):
+        a = np.array([s[0] for s in sweeps])
+        b = np.array([s[1] for s in sweeps])
+        expected = H.paint(blocked.shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo, np.maximum(a, b) + fc.keep_hi,
+                                                            1.0))
+        if k or isinstance(motion, Bounce8):
+            assert np.array_equal(coverage[k], expected), k
+        else:
+            assert not (expected & ~coverage[k]).any()
+
+
+
+def test_forecasts_hold_every_simulated_future():
+    """Obstacles of every forecast class, of several shapes and speeds, run by the simulator's
+    own motion models in a cluttered world: each sweep an obstacle makes k steps later lies in
+    the D_k forecast from its position and velocity now."""
+    from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
+
+    world, _, _, rng = world_with_obstacles(3, size=20)
+    obs = [o for o in world.moving_obstacles if o.motion.forecast != "teleport"]   # redraw jumps anywhere
+    obs += [MovingObstacle(f"w{k}", Rect((-0.5, -0.5), (0.5, 0.5)), o.start, (0.8, 0.0), m)
+            for k, (o, m) in enumerate(zip(obs[:3], (Bounce8(), RandomWalk(), TurnEvery(2))))]
+    world = World(world.bounds, static_map=world.static_map, moving_obstacles=tuple(obs), robots=world.robots,
+                  name="all")
+    fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)
+    state = initial_obstacle_state(world)
+    path = [state.positions - state.velocities * world.dt, state.positions]
+    for _ in range(120):
+        state = advance_obstacles(world, state, rng)
+        path.append(state.positions)
+    path = np.array(path)
+    depth = 4
+    for t in range(1, len(path) - depth):
+        coverage = fc.coverage(path[t], path[t - 1], depth)
+        for k in range(1, depth + 1):
+            a, b = path[t + k - 1], path[t + k]
+            swept = H.paint(coverage[0].shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo,
+                                                                 np.maximum(a, b) + fc.keep_hi, 1.0))
+            assert not (swept & ~coverage[k - 1]).any(), (t, k)

@@ -271,6 +271,9 @@ class ObstacleForecast:
         free_all = np.where(straight, free_all, 0)
         reach = np.where(self.code == RANDOM_WALK, self.walk_step, np.maximum(self.speed, np.hypot(*d.T)))
         reach = np.where(self.code == REDRAW, 0.0, reach)
+        # a moving bounce or bounce8 obstacle turns only where it is blocked: its runs are
+        # listed exactly (few branches); the others are bounded by boxes
+        runs, exact = self._bounce_runs(p, d, straight & ~ok.all(axis=1), steps)
         for k in range(2, steps + 1):
             free = np.minimum(free_all, k)
             sure = free >= k
@@ -279,17 +282,83 @@ class ObstacleForecast:
             b = np.where(sure[:, None], p + k * d, a)
             lo = np.minimum(a, b) + self.keep_lo - grow
             hi = np.maximum(a, b) + self.keep_hi + grow
-            out.append(box_cell_ranges(lo, hi, self.resolution, margin))
+            boxes = box_cell_ranges(lo[~exact], hi[~exact], self.resolution, margin)
+            if exact.any():
+                j, a, b = runs[k - 1]
+                boxes = np.concatenate([boxes, box_cell_ranges(np.minimum(a, b) + self.keep_lo[j],
+                                                               np.maximum(a, b) + self.keep_hi[j],
+                                                               self.resolution, margin)])
+            out.append(boxes)
         return out
+
+    def _bounce_runs(self, p: FloatArray, d: FloatArray, which: BoolArray, steps: int, cap: int = 256
+                     ) -> tuple[list[tuple[IntArray, FloatArray, FloatArray]], BoolArray]:
+        """Every way the moving bounce and bounce8 obstacles ``which`` can go in the next
+        ``steps`` steps, as the models move them
+        (:func:`swarmpath.world.motions._straight.straight_step`): straight on while the
+        footprint fits; where it does not, bounce8 takes one step in any other compass
+        direction at the same speed that fits and bounce the first reflection that fits (x
+        flipped, y flipped, both); with none, they stand with the heading reversed. Returns per step k (1 ... steps) the moves (obstacle, from, to) and a mask of
+        the obstacles listed; an obstacle with more than ``cap`` distinct states at some step
+        is left to the boxes (the mask is False for it)."""
+        exact = which.copy()
+        eight = self.code == BOUNCE8
+        runs: list[tuple[IntArray, FloatArray, FloatArray]] = []
+        j = np.flatnonzero(which)
+        pos, vel = p[j], d[j]
+        for _ in range(steps):
+            # straight on, and the 8 compass directions at the same speed, checked together
+            speed = np.hypot(vel[:, 0], vel[:, 1])
+            turns = UNIT_DIRECTIONS[None] * speed[:, None, None]                  # (s, 8, 2)
+            dest = pos[:, None, :] + np.concatenate([vel[:, None, :], turns], axis=1)  # (s, 9, 2)
+            free = self.fits(np.repeat(j, 9), dest.reshape(-1, 2)).reshape(len(j), 9)
+            ok = free[:, 0]
+            hit = np.flatnonzero(~ok & eight[j])
+            other = free[hit, 1:] & (np.abs(turns[hit] - vel[hit, None, :]).max(axis=2) > 1e-9)
+            r, c = np.nonzero(other)
+            # a bounce obstacle takes the first reflection that fits (flip x, flip y, both)
+            flip = np.flatnonzero(~ok & ~eight[j])
+            flips = vel[flip, None, :] * BOUNCE_FLIPS[None]                          # (f, 3, 2)
+            flip_to = pos[flip, None, :] + flips
+            fits = self.fits(np.repeat(j[flip], 3), flip_to.reshape(-1, 2)).reshape(len(flip), 3)
+            first = np.argmax(fits, axis=1)
+            reflected = fits.any(axis=1)
+            f = flip[reflected]
+            boxed = np.concatenate([hit[~other.any(axis=1)], flip[~reflected]])
+            new_j = np.concatenate([j[ok], j[hit[r]], j[f], j[boxed]])
+            start = np.concatenate([pos[ok], pos[hit[r]], pos[f], pos[boxed]])
+            new_pos = np.concatenate([dest[ok, 0], dest[hit[r], 1 + c],
+                                      flip_to[reflected, first[reflected]], pos[boxed]])
+            new_vel = np.concatenate([vel[ok], turns[hit[r], c], flips[reflected, first[reflected]], -vel[boxed]])
+            runs.append((new_j, start, new_pos))
+            j, pos, vel = new_j, new_pos, new_vel
+            count = np.bincount(j, minlength=len(p))
+            if count.max(initial=0) > 48:   # branches that met again: keep one of each state
+                key = np.ascontiguousarray(np.column_stack([j, np.round(np.column_stack([pos, vel]) * 1e6)])
+                                           .astype(np.int64))
+                _, first = np.unique(key.view(np.dtype((np.void, key.dtype.itemsize * 5))).ravel(),
+                                     return_index=True)
+                first.sort()
+                j, pos, vel = j[first], pos[first], vel[first]
+                count = np.bincount(j, minlength=len(p))
+            over = count > cap
+            if over.any():
+                exact &= ~over
+                keep = ~over[j]
+                j, pos, vel = j[keep], pos[keep], vel[keep]
+        return [(rj[exact[rj]], a[exact[rj]], b[exact[rj]]) for rj, a, b in runs], exact
 
     def coverage(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
                  ) -> list[BoolArray]:
         """[D_1, ..., D_steps]: the cells (height, width) an obstacle may cover in phase 1 of
         each of the next ``steps`` steps. D_1 is :meth:`danger`. For k >= 2, D_k holds the
         sweep from step k - 1 to step k: the bouncing models go straight on while their way
-        is free (``f`` free steps) and may take any direction from the first blocked step
-        on, so from step f on they lie within (k - f) steps of travel of where the straight
-        run ends; random walkers lie within k steps of travel of where they are now.
+        is free (``f`` free steps). A moving bounce or bounce8 obstacle turns only where it is
+        blocked (bounce8 to any other compass direction that is free, bounce to its first
+        reflection that fits) and goes straight on again: its runs are listed exactly
+        (:meth:`_bounce_runs`). One that stands (after a full stop) may set off any way, so
+        from step f on it lies within (k - f) steps of travel of where it is; random walkers
+        lie within k steps of travel of where they are now.
 
         Whole-grid arrays: a controller that needs the cells around its robots only asks
         :meth:`windows` (the cost then follows the robots, not the map)."""
