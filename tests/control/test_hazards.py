@@ -241,3 +241,23 @@ def test_forecasts_hold_every_simulated_future():
             swept = H.paint(coverage[0].shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo,
                                                                  np.maximum(a, b) + fc.keep_hi, 1.0))
             assert not (swept & ~coverage[k - 1]).any(), (t, k)
+
+
+def test_dead_end_cells_are_the_cells_peeled_with_one_way_on():
+    """A 1-cell nook, a 3-cell dead-end corridor and a loop: the nook and the corridor are dead
+    ends, the loop and the open room are not (8-connected moves without corner cutting)."""
+    rows = ["#########",
+            "#.......#",
+            "#.......#",
+            "#.###.#.#",
+            "#.#.#.#.#",
+            "#.....#.#",
+            "#######.#",
+            "#######.#",
+            "#########"]
+    blocked = np.array([[c == "#" for c in r] for r in rows])[::-1]   # row 0 of the list is the top
+    dead = H.dead_end_cells(static_moves(blocked, 8))
+    cells = {(int(x), int(y)) for y, x in zip(*np.nonzero(dead))}
+    # (3, 4): a nook above the loop's floor; (7, 1..5): the corridor down the right side
+    assert cells == {(3, 4), (7, 1), (7, 2), (7, 3), (7, 4), (7, 5)}
+    assert not H.dead_end_cells(static_moves(np.zeros((5, 5), bool), 8)).any()

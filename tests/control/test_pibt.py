@@ -430,3 +430,31 @@ def test_conflict_table_is_the_move_rules_table():
     from swarmpath.control.pibt.core import conflict_table
     for r in (0.0, 0.2, 0.5):
         assert np.array_equal(conflict_table(r, 1.0).astype(bool), grid_conflict_table(r, r, 1.0))
+
+
+def _nook_world(walker_y: int) -> World:
+    """A robot on its goal in a 1-cell nook at the east edge (cell (9, 6), way out (9, 5)), a
+    random walker (9, walker_y) below the nook's mouth, a second robot far off."""
+    blocked = np.zeros((8, 10), bool)
+    blocked[6, 8] = blocked[7, 9] = True
+    robots = (Robot("a", (9.5, 6.5), (9.5, 6.5), 0.0, S2), Robot("b", (0.5, 0.5), (3.5, 7.5), 0.0, S2))
+    walker = MovingObstacle("w", Rect((-0.5, -0.5), (0.5, 0.5)), (9.5, walker_y + 0.5), (0.0, 1.0), RandomWalk())
+    return World(RectBounds(10, 8), static_map=StaticMap(blocked, 1.0), moving_obstacles=(walker,), robots=robots,
+                 name="nook")
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_a_robot_in_a_nook_leaves_before_a_walker_can_close_its_mouth(controller):
+    """Next to a dead end robots look DEAD_END_EXTRA steps further: with the walker 4 cells
+    below the nook's mouth the robot on its goal in the nook steps out now (waiting longer,
+    the walker could reach the mouth before the robot got clear of it); 5 cells below, it
+    stays. With the plain look-ahead it stays in both, and is cornered a few steps later."""
+    from swarmpath.registry import CONTROLLERS
+
+    moved = {}
+    for walker_y in (0, 1):
+        world = _nook_world(walker_y)
+        traj = Simulator(world, CONTROLLERS.get(controller)(), None, seed=0, max_steps=1).run()
+        moved[walker_y] = tuple(traj.positions[1][0])
+    assert moved[0] == (9.5, 6.5)
+    assert moved[1] == (9.5, 5.5)

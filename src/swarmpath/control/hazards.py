@@ -469,6 +469,33 @@ def safe_tier(covered, moves: BoolArray, depth: int) -> tuple[BoolArray, BoolArr
     return safe, after
 
 
+def dead_end_cells(moves: BoolArray, budget: int = 64) -> BoolArray:
+    """Cells (height, width) of dead ends: peeled from the free cells, a cell with at most one
+    move (``moves`` (height, width, 9), index 0 the stay) into the cells not yet peeled at a
+    time, ``budget`` rounds at most (dead-end corridors longer than that are cut off there).
+    A robot in such a cell can only leave the way it came: an obstacle at the mouth corners
+    it, so robots next to one look further ahead (:data:`DEAD_END_EXTRA`)."""
+    moves = np.asarray(moves, bool)
+    h, w = moves.shape[:2]
+    free = moves[..., 0].copy()
+    alive = free.copy()
+    for _ in range(budget):
+        padded = np.pad(alive, 1)
+        ways = np.zeros((h, w), np.int64)
+        for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+            if a:
+                ways += moves[..., a] & padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+        peel = alive & (ways <= 1)
+        if not peel.any():
+            break
+        alive &= ~peel
+    return free & ~alive
+
+
+#: Extra look-ahead steps for a robot with a candidate (its own cell included) in a dead end.
+DEAD_END_EXTRA = 2
+
+
 def stay_depth(covered, shape: tuple[int, ...] | None = None) -> NDArray[np.int64]:
     """For every cell, for how many of the next K steps it stays clear of every obstacle
     (0 ... K), shape of one D_k: how long a robot could wait there. With K = 0 steps (an

@@ -45,8 +45,10 @@ from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.hazards import (
+    DEAD_END_EXTRA,
     ObstacleForecast,
     cornered_penalty,
+    dead_end_cells,
     hazard_windows,
     stay_depth,
     warning_levels,
@@ -91,7 +93,8 @@ class CatSwarmController(Controller):
             whatever they do (3; 1 = only the next step, as in the paper). A robot that must
             leave its cell keeps every candidate, ranked by these tiers; one with no candidate
             in its deepest tier takes the cell with most ways on
-            (:func:`~swarmpath.control.hazards.cornered_penalty`).
+            (:func:`~swarmpath.control.hazards.cornered_penalty`); one with a candidate in a
+            dead end looks ``DEAD_END_EXTRA`` (2) steps further (as in ``pibt``).
         leave_early : a robot prefers cells no obstacle can reach within this many steps and
             leaves a cell (even its goal) that an obstacle may reach that soon (0 = no such
             preference, default). ``lookahead=5, leave_early=2`` (the defaults before) keep
@@ -194,7 +197,8 @@ class CatSwarmController(Controller):
         self.forecast_ = ObstacleForecast(world, self.grid_, radius) if world.moving_obstacles else None
         if self.forecast_ is not None:  # the static grid padded for the look-ahead windows
             self.window_ = max(self.lookahead, 2)
-            self.pad_ = self.window_ + 2
+            self.pad_ = self.window_ + 2 + DEAD_END_EXTRA
+            self.dead_end_ = dead_end_cells(K.move_table(blocked))
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
         self.pushes_ = np.zeros(n, np.int64)
 
@@ -360,8 +364,21 @@ class CatSwarmController(Controller):
         # a robot without progress for `patience` steps looks ahead less: among obstacles that
         # may head anywhere the deepest tiers can hold it in a safe pocket for good
         stalled = (self.monitor_.since[r] >= self.relax_after) & ~obs.at_goal[r]
-        v, threat, rank, ways = hz.tiers(v, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
-                                                           self.lookahead), exits, fallback=in_danger[r])
+        base = v.copy()
+        v, threat, rank, ways = hz.tiers(base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
+                                                              self.lookahead), exits, fallback=in_danger[r])
+        # next to a dead end the way out is the way in: such robots look further (see pibt)
+        inside = np.clip(dest, 0, [self.width_ - 1, self.height_ - 1])
+        near = np.flatnonzero((self.dead_end_[inside[..., 1], inside[..., 0]] & base).any(axis=1) & ~stalled)
+        if len(near):
+            depth = self.lookahead + DEAD_END_EXTRA
+            deep = hazard_windows(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[near]], cells[r[near]],
+                                  self.padded_, self.pad_, depth, depth, margin=self.margin)
+            if deep is not None:
+                k = near[deep.rows]
+                deep_exits = np.where(odd[k, :, None], exits[k], deep.at(deep.moves, dest[k]))
+                v[k], threat[k], rank[k], ways[k] = deep.tiers(base[k], dest[k], depth, deep_exits,
+                                                               fallback=in_danger[r[k]])
         # the tier first; a robot the obstacles close in on then takes the cell with most ways on
         tier[r] = rank * TIER_SPAN + cornered_penalty(v, rank, ways)
         threatened[r] = threat

@@ -24,7 +24,14 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.grid_robots import check_grid_robots
-from swarmpath.control.hazards import ObstacleForecast, cornered_penalty, hazard_windows, stay_depth
+from swarmpath.control.hazards import (
+    DEAD_END_EXTRA,
+    ObstacleForecast,
+    cornered_penalty,
+    dead_end_cells,
+    hazard_windows,
+    stay_depth,
+)
 from swarmpath.control.observation import Observation
 from swarmpath.control.pibt.core import (
     DIAGONAL_MOVE,
@@ -78,7 +85,10 @@ class PIBTController(Controller):
         two steps beyond the next; 0: the next step only. A robot that must leave its cell
         keeps every candidate, ranked by these tiers (a shallower one only when the deeper ones
         are taken), and one with no candidate in its deepest tier takes the cell with most ways
-        on (:func:`~swarmpath.control.hazards.cornered_penalty`).
+        on (:func:`~swarmpath.control.hazards.cornered_penalty`). A robot with a candidate in
+        a dead end (:func:`~swarmpath.control.hazards.dead_end_cells`) looks
+        ``DEAD_END_EXTRA`` (2) steps further: the way out is the way in, so it must leave
+        before an obstacle can reach the mouth.
     leave_early : int
         With moving obstacles: robots an obstacle can reach rank first the candidates that
         stay clear of every obstacle longest over this many steps, and leave a cell an
@@ -155,7 +165,8 @@ class PIBTController(Controller):
         self.rng_ = rng
         self.forecast_ = ObstacleForecast(world, grid, radius) if world.moving_obstacles else None
         if self.forecast_ is not None:   # the static grid padded for the look-ahead windows
-            self.pad_ = self.lookahead + 2
+            self.pad_ = self.lookahead + 2 + DEAD_END_EXTRA
+            self.dead_end_ = dead_end_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
 
     def _cells(self, points: FloatArray) -> NDArray[np.int64]:
@@ -243,8 +254,22 @@ class PIBTController(Controller):
             if self.lookahead:
                 # keep out of cells that leave no way out later, unless nothing else is left; a
                 # robot that must leave may fall back to less cautious cells, in rank order
-                allowed[rows], threatened[rows], rank, ways = hz.tiers(allowed[rows], dest, 1 + self.lookahead,
+                base = allowed[rows]
+                allowed[rows], threatened[rows], rank, ways = hz.tiers(base, dest, 1 + self.lookahead,
                                                                        fallback=urgent[rows])
+                # next to a dead end the way out is the way in: an obstacle heading for the
+                # mouth corners the robot unless it leaves early, so such robots look further
+                inside = np.clip(dest, 0, [self.width_ - 1, self.height_ - 1])
+                near = np.flatnonzero((self.dead_end_[inside[..., 1], inside[..., 0]] & base).any(axis=1))
+                if len(near):
+                    depth = 1 + self.lookahead + DEAD_END_EXTRA
+                    deep = hazard_windows(self.forecast_, obs.obstacle_positions, obs.obstacle_previous,
+                                          pos[rows[near]], cells[rows[near]], self.padded_, self.pad_, depth, depth,
+                                          connectivity=self.connectivity)
+                    if deep is not None:
+                        k = near[deep.rows]
+                        allowed[rows[k]], threatened[rows[k]], rank[k], ways[k] = deep.tiers(
+                            base[k], dest[k], depth, fallback=urgent[rows[k]])
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
                 ranks[rows] = rank
             if self.leave_early:
