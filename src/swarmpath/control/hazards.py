@@ -298,10 +298,13 @@ class ObstacleForecast:
         (:func:`swarmpath.world.motions._straight.straight_step`): straight on while the
         footprint fits; where it does not, bounce8 takes one step in any other compass
         direction at the same speed that fits and bounce the first reflection that fits (x
-        flipped, y flipped, both); with none, they stand with the heading reversed. Returns per step k (1 ... steps) the moves (obstacle, from, to) and a mask of
-        the obstacles listed; an obstacle with more than ``cap`` distinct states at some step
-        is left to the boxes (the mask is False for it)."""
+        flipped, y flipped, both); with none, they stand with the heading reversed. Returns
+        per step k (1 ... steps) the moves (obstacle, from, to) and a mask of the obstacles
+        listed; an obstacle with more than ``cap`` distinct states at some step is left to
+        the boxes (the mask is False for it)."""
         exact = which.copy()
+        if not exact.any():
+            return [], exact
         eight = self.code == BOUNCE8
         runs: list[tuple[IntArray, FloatArray, FloatArray]] = []
         j = np.flatnonzero(which)
@@ -494,6 +497,15 @@ def dead_end_cells(moves: BoolArray, budget: int = 64) -> BoolArray:
 
 #: Extra look-ahead steps for a robot with a candidate (its own cell included) in a dead end.
 DEAD_END_EXTRA = 2
+
+
+def next_to_dead_end(dead_end: BoolArray, dest: IntArray, allowed: BoolArray) -> IntArray:
+    """Indices of the robots with an ``allowed`` candidate (r, 9) whose cell ``dest`` (r, 9, 2)
+    lies in a dead end (``dead_end`` from :func:`dead_end_cells`): those that look
+    :data:`DEAD_END_EXTRA` steps further."""
+    h, w = dead_end.shape
+    inside = np.clip(dest, 0, [w - 1, h - 1])
+    return np.flatnonzero((dead_end[inside[..., 1], inside[..., 0]] & allowed).any(axis=1))
 
 
 def stay_depth(covered, shape: tuple[int, ...] | None = None) -> NDArray[np.int64]:

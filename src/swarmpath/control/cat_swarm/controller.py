@@ -50,6 +50,7 @@ from swarmpath.control.hazards import (
     cornered_penalty,
     dead_end_cells,
     hazard_windows,
+    next_to_dead_end,
     stay_depth,
     warning_levels,
 )
@@ -368,8 +369,7 @@ class CatSwarmController(Controller):
         v, threat, rank, ways = hz.tiers(base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
                                                               self.lookahead), exits, fallback=in_danger[r])
         # next to a dead end the way out is the way in: such robots look further (see pibt)
-        inside = np.clip(dest, 0, [self.width_ - 1, self.height_ - 1])
-        near = np.flatnonzero((self.dead_end_[inside[..., 1], inside[..., 0]] & base).any(axis=1) & ~stalled)
+        near = next_to_dead_end(self.dead_end_, dest, base & ~stalled[:, None])
         if len(near):
             depth = self.lookahead + DEAD_END_EXTRA
             deep = hazard_windows(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[near]], cells[r[near]],

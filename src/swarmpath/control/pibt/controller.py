@@ -30,6 +30,7 @@ from swarmpath.control.hazards import (
     cornered_penalty,
     dead_end_cells,
     hazard_windows,
+    next_to_dead_end,
     stay_depth,
 )
 from swarmpath.control.observation import Observation
@@ -259,8 +260,7 @@ class PIBTController(Controller):
                                                                        fallback=urgent[rows])
                 # next to a dead end the way out is the way in: an obstacle heading for the
                 # mouth corners the robot unless it leaves early, so such robots look further
-                inside = np.clip(dest, 0, [self.width_ - 1, self.height_ - 1])
-                near = np.flatnonzero((self.dead_end_[inside[..., 1], inside[..., 0]] & base).any(axis=1))
+                near = next_to_dead_end(self.dead_end_, dest, base)
                 if len(near):
                     depth = 1 + self.lookahead + DEAD_END_EXTRA
                     deep = hazard_windows(self.forecast_, obs.obstacle_positions, obs.obstacle_previous,
