@@ -10,6 +10,7 @@ from swarmpath.control import hazards as H
 from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.pibt.core import static_moves
 from swarmpath.world import Circle, Rect, RectBounds, Robot, StaticMap, World
+from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.moving import Bounce, Bounce8, MovingObstacle, RandomWalk, Redraw, TurnEvery
 
 S2 = float(np.sqrt(2))
@@ -261,3 +262,65 @@ def test_dead_end_cells_are_the_cells_peeled_with_one_way_on():
     # (3, 4): a nook above the loop's floor; (7, 1..5): the corridor down the right side
     assert cells == {(3, 4), (7, 1), (7, 2), (7, 3), (7, 4), (7, 5)}
     assert not H.dead_end_cells(static_moves(np.zeros((5, 5), bool), 8)).any()
+
+
+def _pockets_by_search(blocked: np.ndarray, reach: int) -> set[tuple[int, int]]:
+    """The definition of :func:`pocket_cells` searched plainly: for every free cell m, close
+    the 3 x 3 around it and flood (8-connected moves without corner cutting) from every free
+    cell within ``reach``; a cell that reaches no cell more than ``reach`` from m (Chebyshev)
+    nor the grid's outside beyond that is in a pocket."""
+    h, w = blocked.shape
+    free = ~blocked
+    moves = static_moves(blocked, 8)
+    out = set()
+    for my, mx in zip(*np.nonzero(free)):
+        closed = np.zeros_like(blocked)
+        closed[max(my - 1, 0):my + 2, max(mx - 1, 0):mx + 2] = True
+        seen: set[tuple[int, int]] = set()
+        for sy in range(max(my - reach, 0), min(my + reach + 1, h)):
+            for sx in range(max(mx - reach, 0), min(mx + reach + 1, w)):
+                if not free[sy, sx] or closed[sy, sx] or (sx, sy) in seen:
+                    continue
+                part, stack, escapes = {(sx, sy)}, [(sx, sy)], False
+                while stack:
+                    x, y = stack.pop()
+                    if max(abs(x - mx), abs(y - my)) >= reach:
+                        escapes = True      # on the window's edge: the part goes on beyond
+                    for a in range(1, 9):
+                        if not moves[y, x, a]:
+                            continue
+                        nx, ny = x + int(GRID_MOVES[a, 0]), y + int(GRID_MOVES[a, 1])
+                        if closed[ny, nx] or (nx, ny) in part or max(abs(nx - mx), abs(ny - my)) > reach:
+                            continue
+                        part.add((nx, ny))
+                        stack.append((nx, ny))
+                seen |= part
+                if not escapes:
+                    out |= part
+    return out
+
+
+def test_pocket_cells_are_the_cells_one_obstacle_shuts_in():
+    """A 2 x 3 nook with a 2-cell mouth at the map's edge is a pocket (an obstacle in the mouth
+    shuts it); the open room beside it is not. On random maps the labelled windows give
+    exactly the cells a plain search of the definition finds."""
+    rows = ["##########",
+            "#........#",
+            "#........#",
+            "#........#",
+            "#....#####",
+            "#.......##",
+            "#.......##",
+            "#....#..##",
+            "##########"]
+    blocked = np.array([[c == "#" for c in r] for r in rows])[::-1]
+    pockets = H.pocket_cells(static_moves(blocked, 8), reach=4)
+    cells = {(int(x), int(y)) for y, x in zip(*np.nonzero(pockets))}
+    assert {(x, y) for x in (6, 7) for y in (1, 2, 3)} <= cells      # the nook
+    assert not pockets[5:8, 3:7].any()                               # the middle of the room above
+    assert not H.pocket_cells(static_moves(np.zeros((12, 12), bool), 8), reach=4).any()
+    rng = np.random.default_rng(7)
+    for density in (0.15, 0.25, 0.35):
+        blocked = rng.random((14, 17)) < density
+        found = H.pocket_cells(static_moves(blocked, 8), reach=3, batch=37)
+        assert {(int(x), int(y)) for y, x in zip(*np.nonzero(found))} == _pockets_by_search(blocked, 3), density

@@ -458,3 +458,37 @@ def test_a_robot_in_a_nook_leaves_before_a_walker_can_close_its_mouth(controller
         moved[walker_y] = tuple(traj.positions[1][0])
     assert moved[0] == (9.5, 6.5)
     assert moved[1] == (9.5, 5.5)
+
+
+def _pocket_world(walker: tuple[int, int]) -> World:
+    """A robot on its goal in the far corner (cell (9, 7)) of a 2 x 2 pocket at the map's
+    north-east corner (cells x 8-9, y 6-7, walled off on the west), whose mouth (8, 5)-(9, 5)
+    is two cells wide; a random walker at cell ``walker`` below it; a second robot far off."""
+    blocked = np.zeros((8, 10), bool)
+    blocked[6, 7] = blocked[7, 7] = True
+    robots = (Robot("a", (9.5, 7.5), (9.5, 7.5), 0.0, S2), Robot("b", (0.5, 0.5), (3.5, 7.5), 0.0, S2))
+    walker = MovingObstacle("w", Rect((-0.5, -0.5), (0.5, 0.5)), (walker[0] + 0.5, walker[1] + 0.5), (0.0, 1.0),
+                            RandomWalk())
+    return World(RectBounds(10, 8), static_map=StaticMap(blocked, 1.0), moving_obstacles=(walker,), robots=robots,
+                 name="pocket")
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_a_robot_in_a_pocket_leaves_before_a_walker_can_close_its_mouth(controller, monkeypatch):
+    """A pocket two cells wide is shut by one walker as surely as a 1-cell nook (the robot may
+    not end a step next to it), so robots next to one look DEAD_END_EXTRA steps further too:
+    with the walker 2 cells below the mouth the robot heads out now, 3 cells below it stays.
+    Without pockets (only 1-wide dead ends) it stays in both."""
+    from swarmpath.control import hazards
+    from swarmpath.registry import CONTROLLERS
+
+    def first_move(walker):
+        traj = Simulator(_pocket_world(walker), CONTROLLERS.get(controller)(), None, seed=0, max_steps=1).run()
+        return tuple(traj.positions[1][0])
+
+    assert hazards.pocket_cells(static_moves(_pocket_world((0, 0)).static_map.blocked, 8))[6:8, 8:10].all()
+    assert first_move((9, 2)) == (9.5, 6.5)
+    assert first_move((9, 1)) == (9.5, 7.5)
+    module = "swarmpath.control.pibt.controller" if controller == "pibt" else "swarmpath.control.cat_swarm.controller"
+    monkeypatch.setattr(f"{module}.pocket_cells", lambda moves: np.zeros(np.shape(moves)[:2], bool))
+    assert first_move((9, 2)) == (9.5, 7.5)

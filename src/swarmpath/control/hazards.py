@@ -495,6 +495,51 @@ def dead_end_cells(moves: BoolArray, budget: int = 64) -> BoolArray:
     return free & ~alive
 
 
+#: How far (cells, Chebyshev) from an obstacle :func:`pocket_cells` looks for pockets it closes.
+POCKET_REACH = 6
+
+
+def pocket_cells(moves: BoolArray, reach: int = POCKET_REACH, batch: int = 4096) -> BoolArray:
+    """Cells (height, width) of pockets: free cells that an obstacle standing on one free
+    cell m cuts off from everything more than ``reach`` cells from m, because the robot may
+    not end a step next to it (the 3 x 3 cells around m are closed). ``moves`` (height,
+    width, 9) are the grid moves, index 0 the stay (free cells).
+
+    Dead ends shorter than ``reach`` are pockets (longer ones: :func:`dead_end_cells`); the
+    others are wider: a 2 x 3 nook at the map's edge, a room with a door two cells wide. A robot inside one is shut in by a
+    single obstacle at the mouth, however wide the pocket is, so robots next to one look
+    further ahead (:data:`DEAD_END_EXTRA`). Moves without corner cutting connect exactly the
+    4-connected cells, so each window (2 ``reach`` + 1 cells wide around m, the 3 x 3 around
+    m removed) is labelled 4-connected; its parts that touch no edge of the window are
+    pockets. All windows are labelled at once, ``batch`` at a time (one labelled stack, no
+    links between windows)."""
+    from scipy import ndimage
+
+    free = np.asarray(moves, bool)[..., 0]
+    h, w = free.shape
+    size = 2 * reach + 1
+    padded = np.pad(free, reach, constant_values=False)
+    ys, xs = np.nonzero(free)
+    off = np.arange(size)
+    structure = np.zeros((3, 3, 3), bool)
+    structure[1] = [[False, True, False], [True, True, True], [False, True, False]]
+    ring = np.ones((size, size), bool)
+    ring[1:-1, 1:-1] = False
+    out = np.zeros((h, w), bool)
+    for start in range(0, len(ys), batch):
+        y, x = ys[start:start + batch], xs[start:start + batch]
+        win = padded[(y[:, None] + off)[:, :, None], (x[:, None] + off)[:, None, :]]
+        win[:, reach - 1:reach + 2, reach - 1:reach + 2] = False
+        labels, count = ndimage.label(win, structure)
+        if count == 0:
+            continue
+        open_ = np.zeros(count + 1, bool)
+        open_[labels[:, ring]] = True
+        k, i, j = np.nonzero(~open_[labels])
+        out[y[k] + i - reach, x[k] + j - reach] = True
+    return out & free
+
+
 #: Extra look-ahead steps for a robot with a candidate (its own cell included) in a dead end.
 DEAD_END_EXTRA = 2
 

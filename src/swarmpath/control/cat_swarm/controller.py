@@ -51,6 +51,7 @@ from swarmpath.control.hazards import (
     dead_end_cells,
     hazard_windows,
     next_to_dead_end,
+    pocket_cells,
     stay_depth,
     warning_levels,
 )
@@ -95,7 +96,8 @@ class CatSwarmController(Controller):
             leave its cell keeps every candidate, ranked by these tiers; one with no candidate
             in its deepest tier takes the cell with most ways on
             (:func:`~swarmpath.control.hazards.cornered_penalty`); one with a candidate in a
-            dead end looks ``DEAD_END_EXTRA`` (2) steps further (as in ``pibt``).
+            dead end or a pocket one obstacle can close looks ``DEAD_END_EXTRA`` (2) steps
+            further (as in ``pibt``).
         leave_early : a robot prefers cells no obstacle can reach within this many steps and
             leaves a cell (even its goal) that an obstacle may reach that soon (0 = no such
             preference, default). ``lookahead=5, leave_early=2`` (the defaults before) keep
@@ -199,7 +201,8 @@ class CatSwarmController(Controller):
         if self.forecast_ is not None:  # the static grid padded for the look-ahead windows
             self.window_ = max(self.lookahead, 2)
             self.pad_ = self.window_ + 2 + DEAD_END_EXTRA
-            self.dead_end_ = dead_end_cells(K.move_table(blocked))
+            table = K.move_table(blocked)
+            self.dead_end_ = dead_end_cells(table) | pocket_cells(table)
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
         self.pushes_ = np.zeros(n, np.int64)
 
@@ -368,7 +371,7 @@ class CatSwarmController(Controller):
         base = v.copy()
         v, threat, rank, ways = hz.tiers(base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
                                                               self.lookahead), exits, fallback=in_danger[r])
-        # next to a dead end the way out is the way in: such robots look further (see pibt)
+        # next to a dead end or pocket the way out is the way in: such robots look further (see pibt)
         near = next_to_dead_end(self.dead_end_, dest, base & ~stalled[:, None])
         if len(near):
             depth = self.lookahead + DEAD_END_EXTRA

@@ -31,6 +31,7 @@ from swarmpath.control.hazards import (
     dead_end_cells,
     hazard_windows,
     next_to_dead_end,
+    pocket_cells,
     stay_depth,
 )
 from swarmpath.control.observation import Observation
@@ -87,7 +88,8 @@ class PIBTController(Controller):
         keeps every candidate, ranked by these tiers (a shallower one only when the deeper ones
         are taken), and one with no candidate in its deepest tier takes the cell with most ways
         on (:func:`~swarmpath.control.hazards.cornered_penalty`). A robot with a candidate in
-        a dead end (:func:`~swarmpath.control.hazards.dead_end_cells`) looks
+        a dead end (:func:`~swarmpath.control.hazards.dead_end_cells`) or a pocket one
+        obstacle can close (:func:`~swarmpath.control.hazards.pocket_cells`) looks
         ``DEAD_END_EXTRA`` (2) steps further: the way out is the way in, so it must leave
         before an obstacle can reach the mouth.
     leave_early : int
@@ -167,7 +169,7 @@ class PIBTController(Controller):
         self.forecast_ = ObstacleForecast(world, grid, radius) if world.moving_obstacles else None
         if self.forecast_ is not None:   # the static grid padded for the look-ahead windows
             self.pad_ = self.lookahead + 2 + DEAD_END_EXTRA
-            self.dead_end_ = dead_end_cells(self.moves_)
+            self.dead_end_ = dead_end_cells(self.moves_) | pocket_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
 
     def _cells(self, points: FloatArray) -> NDArray[np.int64]:
@@ -258,7 +260,7 @@ class PIBTController(Controller):
                 base = allowed[rows]
                 allowed[rows], threatened[rows], rank, ways = hz.tiers(base, dest, 1 + self.lookahead,
                                                                        fallback=urgent[rows])
-                # next to a dead end the way out is the way in: an obstacle heading for the
+                # next to a dead end or pocket the way out is the way in: an obstacle heading for the
                 # mouth corners the robot unless it leaves early, so such robots look further
                 near = next_to_dead_end(self.dead_end_, dest, base)
                 if len(near):
