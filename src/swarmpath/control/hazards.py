@@ -540,6 +540,14 @@ def pocket_cells(moves: BoolArray, reach: int = POCKET_REACH, batch: int = 4096)
     return out & free
 
 
+def trap_cells(moves: BoolArray) -> BoolArray:
+    """Cells (height, width) where a single obstacle can shut a robot in: the dead ends
+    (:func:`dead_end_cells`) and the pockets (:func:`pocket_cells`) of the grid moves
+    ``moves`` (height, width, 9). Robots with a candidate among them look
+    :data:`DEAD_END_EXTRA` steps further."""
+    return dead_end_cells(moves) | pocket_cells(moves)
+
+
 #: Extra look-ahead steps for a robot with a candidate (its own cell included) in a dead end.
 DEAD_END_EXTRA = 2
 

@@ -48,11 +48,10 @@ from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
     ObstacleForecast,
     cornered_penalty,
-    dead_end_cells,
     hazard_windows,
     next_to_dead_end,
-    pocket_cells,
     stay_depth,
+    trap_cells,
     warning_levels,
 )
 from swarmpath.control.observation import CLASS_INDEX, Observation
@@ -201,8 +200,7 @@ class CatSwarmController(Controller):
         if self.forecast_ is not None:  # the static grid padded for the look-ahead windows
             self.window_ = max(self.lookahead, 2)
             self.pad_ = self.window_ + 2 + DEAD_END_EXTRA
-            table = K.move_table(blocked)
-            self.dead_end_ = dead_end_cells(table) | pocket_cells(table)
+            self.dead_end_ = trap_cells(K.move_table(blocked))
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
         self.pushes_ = np.zeros(n, np.int64)
 

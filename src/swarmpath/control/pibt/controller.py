@@ -28,11 +28,10 @@ from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
     ObstacleForecast,
     cornered_penalty,
-    dead_end_cells,
     hazard_windows,
     next_to_dead_end,
-    pocket_cells,
     stay_depth,
+    trap_cells,
 )
 from swarmpath.control.observation import Observation
 from swarmpath.control.pibt.core import (
@@ -169,7 +168,7 @@ class PIBTController(Controller):
         self.forecast_ = ObstacleForecast(world, grid, radius) if world.moving_obstacles else None
         if self.forecast_ is not None:   # the static grid padded for the look-ahead windows
             self.pad_ = self.lookahead + 2 + DEAD_END_EXTRA
-            self.dead_end_ = dead_end_cells(self.moves_) | pocket_cells(self.moves_)
+            self.dead_end_ = trap_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
 
     def _cells(self, points: FloatArray) -> NDArray[np.int64]:
