@@ -118,8 +118,9 @@ def test_100_robots_among_20_moving_obstacles_all_home_at_once(controller) -> No
     """20 seeds, the controllers' defaults: every robot reaches its goal, no robot-robot or
     robot-static contact, a robot-moving contact only after the robot reported ``no_escape``;
     and on 18 seeds or more every robot stands on its goal at the end with no contact of any
-    kind (the run ends in the step on which all step home together; pibt 20, cat-swarm 19 of
-    these 20; over seeds 0-99 pibt 96, cat-swarm 95: docs/algorithms/pibt.md). The obstacles never stop,
+    kind (the run ends in the step on which all step home together; pibt 19, cat-swarm 19 of
+    these 20; over seeds 200-399, held out, pibt 182, cat-swarm 179 of 200: docs/algorithms/pibt.md).
+    The obstacles never stop,
     and a robot waiting in a corner can be pinned by two of them at once."""
     wins = 0
     for seed in range(20):

@@ -43,6 +43,7 @@ from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
+from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, ways_clear
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -315,9 +316,12 @@ class CatSwarmController(Controller):
         self.paths_.advance(cells + K.OFFSETS[choice])  # step 6.6: leaving the path = replanning
         for i in held:
             events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
-        for i in np.flatnonzero(in_danger & (choice == K.STAY)):
+        for i in np.flatnonzero(in_danger & (choice == K.STAY) & ~self.cornered_):
             events.append({"robot": int(i), "kind": "no_escape",
                            "detail": "a moving obstacle may reach this cell and no move leads out"})
+        for i in np.flatnonzero(self.cornered_):
+            events.append({"robot": int(i), "kind": "no_escape",
+                           "detail": "every move ends where a moving obstacle may be next; took the least likely"})
         pushed = ((result.flags & PUSHED) != 0) & (choice != K.STAY)
         self.pushes_ += pushed
         modes = np.where(at_goal, "arrived", "follow").astype(object)
@@ -339,6 +343,7 @@ class CatSwarmController(Controller):
         n = len(cells)
         in_danger = np.zeros(n, bool)
         threatened = np.zeros(n, bool)
+        self.cornered_ = np.zeros(n, bool)   # robots left to cornered.last_resort this step
         fc = self.forecast_
         tier = np.zeros((n, 9), np.int64)
         if fc is None:
@@ -380,8 +385,17 @@ class CatSwarmController(Controller):
                 deep_exits = np.where(odd[k, :, None], exits[k], deep.at(deep.moves, dest[k]))
                 v[k], threat[k], rank[k], ways[k] = deep.tiers(base[k], dest[k], depth, deep_exits,
                                                                fallback=in_danger[r[k]])
+        # a robot with no sure move left takes the one an obstacle is least likely to hit
+        stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
+        if len(stuck):
+            v[stuck], cost = last_resort(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[stuck]],
+                                         targets[r[stuck]], dest[stuck], valid[r[stuck]],
+                                         ways_clear(hz, stuck, dest[stuck]))
+            self.cornered_[r[stuck]] = True
         # the tier first; a robot the obstacles close in on then takes the cell with most ways on
         tier[r] = rank * TIER_SPAN + cornered_penalty(v, rank, ways)
+        if len(stuck):
+            tier[r[stuck]] = np.round(cost / (CHANCE_RESOLUTION / 10)).astype(np.int64)
         threatened[r] = threat
         # and, among those, prefer cells an obstacle cannot reach soon (leave early)
         safety = np.where(valid, self.leave_early, -1)

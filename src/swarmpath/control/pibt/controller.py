@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.cornered import last_resort, ways_clear
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
@@ -60,6 +61,9 @@ CLEAR_WEIGHT = 1e6
 #: Added per rank of the look-ahead (``HazardWindows.tiers``): a robot that must leave takes a
 #: less cautious cell only when the more cautious ones are taken.
 TIER_WEIGHT = 1e8
+#: Times the cost of :func:`~swarmpath.control.cornered.last_resort` for a cornered robot:
+#: the least likely hit first, the distance to the goal last.
+LAST_RESORT_WEIGHT = 1e12
 
 
 @register_controller("pibt")
@@ -234,7 +238,10 @@ class PIBTController(Controller):
         special_targets, special_reach = self._targets(pos, cells, special)
         allowed[special] = ~np.isnan(dist[special]) & special_reach
         allowed[:, STAY] = True
+        feasible = allowed.copy()       # what the static map and the robots' reach allow
+        goal_dist = dist.copy()
         urgent = np.zeros(n, bool)
+        cornered = np.zeros(n, bool)
         threatened = np.zeros(n, bool)
         ranks = np.zeros((n, 9), np.int64)
         hz = None
@@ -285,6 +292,18 @@ class PIBTController(Controller):
                 threatened[rows] |= depth.max(axis=1) > depth[:, STAY]
                 dist[rows] = np.where(np.isnan(dist[rows]), np.nan,
                                       dist[rows] + CLEAR_WEIGHT * (early[:, None] - depth))
+            # a robot with no sure move left takes the one an obstacle is least likely to hit
+            stuck = np.flatnonzero(urgent & ~allowed.any(axis=1))
+            if len(stuck):
+                cornered[stuck] = True
+                targets, _ = self._targets(pos, cells, stuck)
+                dest = cells[stuck, None, :] + GRID_MOVES[None]
+                ways = ways_clear(hz, np.searchsorted(hz.rows, stuck), dest)
+                ok, cost = last_resort(self.forecast_, obs.obstacle_positions, obs.obstacle_previous, pos[stuck],
+                                       targets, dest, feasible[stuck], ways)
+                allowed[stuck] = ok
+                dist[stuck] = np.where(ok, np.nan_to_num(goal_dist[stuck]) + LAST_RESORT_WEIGHT * cost, np.nan)
+                ranks[stuck] = 0
         self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
         # robots that must or should leave their cell first, the most constrained first
         order = decision_order(self.priority_, urgent | threatened, allowed.sum(axis=1))
@@ -303,10 +322,12 @@ class PIBTController(Controller):
             new[i] = pos[i]
             moves[i] = STAY
             events.append({"robot": int(i), "kind": "move_withheld", "detail": "off-centre move conflicts"})
-        stuck_in_danger = np.flatnonzero(urgent & (moves == STAY))
-        for i in stuck_in_danger:
+        for i in np.flatnonzero(urgent & (moves == STAY) & ~cornered):
             events.append({"robot": int(i), "kind": "no_escape",
                            "detail": "a moving obstacle may reach this cell and no move leads out"})
+        for i in np.flatnonzero(cornered):
+            events.append({"robot": int(i), "kind": "no_escape",
+                           "detail": "every move ends where a moving obstacle may be next; took the least likely"})
         if result.conflicts:
             events.append({"robot": -1, "kind": "pibt_conflict", "detail": f"{result.conflicts} pairs"})
         pushed = ((result.flags & PUSHED) != 0) & (moves != STAY)
