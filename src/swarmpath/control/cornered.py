@@ -83,7 +83,6 @@ def ways_clear(hz: HazardWindows, local_rows: IntArray, dest: IntArray) -> IntAr
     rows = np.asarray(local_rows, np.int64)
     size = hz.covered.shape[-1]
     c = np.asarray(dest, np.int64) - hz.origin[rows, None, :]
-    r = np.arange(len(rows))[:, None]
     moves = hz.moves[rows[:, None], np.clip(c[..., 1], 0, size - 1), np.clip(c[..., 0], 0, size - 1)]
     if hz.covered.shape[0] < 2:
         return moves.sum(axis=-1)
@@ -91,7 +90,7 @@ def ways_clear(hz: HazardWindows, local_rows: IntArray, dest: IntArray) -> IntAr
     inside = np.all((around >= 0) & (around < size), axis=-1)
     bx = np.clip(around[..., 0], 0, size - 1)
     by = np.clip(around[..., 1], 0, size - 1)
-    clear = inside & ~hz.covered[1][rows[r][..., None], by, bx]
+    clear = inside & ~hz.covered[1][rows[:, None, None], by, bx]
     return np.sum(moves & clear, axis=-1)
 
 
@@ -115,3 +114,15 @@ def last_resort(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
     allowed[:, 0] = ~now[:, 0]
     cost = np.round(chance / CHANCE_RESOLUTION) * CHANCE_RESOLUTION + (9 - np.asarray(ways)) * CHANCE_RESOLUTION / 10
     return allowed, cost
+
+
+def no_escape_events(stood: BoolArray, cornered: BoolArray) -> list[dict]:
+    """The ``no_escape`` events of one step: robots ``stood`` (n,) in a cell an obstacle may
+    reach next step because the other robots left them no way out, and robots ``cornered``
+    (n,) that had no move outside D_1 at all and took the one of :func:`last_resort`."""
+    stood = np.asarray(stood, bool) & ~np.asarray(cornered, bool)
+    return ([{"robot": int(i), "kind": "no_escape",
+              "detail": "a moving obstacle may reach this cell and no move leads out"} for i in np.flatnonzero(stood)]
+            + [{"robot": int(i), "kind": "no_escape",
+                "detail": "every move ends where a moving obstacle may be next; took the least likely"}
+               for i in np.flatnonzero(cornered)])

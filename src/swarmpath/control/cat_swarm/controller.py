@@ -43,7 +43,7 @@ from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
-from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, ways_clear
+from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -279,8 +279,8 @@ class CatSwarmController(Controller):
         events = self.monitor_.update(obs.step, remaining, at_goal)
         targets, in_goal, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies, centre_first=True)
         # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)
-        valid, in_danger, threatened, safety, warning, tier = self._obstacle_rules(obs, cells, copies, targets,
-                                                                                   in_goal, valid)
+        valid, in_danger, threatened, safety, warning, tier, cornered = self._obstacle_rules(
+            obs, cells, copies, targets, in_goal, valid)
         # steps 1-5: collision detection, mixture split, trace robots seeing obstacles seek
         seek, trace = self._behaviours(obs, active, remaining)
         tie13 = K.tie_break_eq13(targets, goals)
@@ -316,12 +316,7 @@ class CatSwarmController(Controller):
         self.paths_.advance(cells + K.OFFSETS[choice])  # step 6.6: leaving the path = replanning
         for i in held:
             events.append({"robot": int(i), "kind": "move_withheld", "detail": "exact check found a contact"})
-        for i in np.flatnonzero(in_danger & (choice == K.STAY) & ~self.cornered_):
-            events.append({"robot": int(i), "kind": "no_escape",
-                           "detail": "a moving obstacle may reach this cell and no move leads out"})
-        for i in np.flatnonzero(self.cornered_):
-            events.append({"robot": int(i), "kind": "no_escape",
-                           "detail": "every move ends where a moving obstacle may be next; took the least likely"})
+        events += no_escape_events(in_danger & (choice == K.STAY), cornered)
         pushed = ((result.flags & PUSHED) != 0) & (choice != K.STAY)
         self.pushes_ += pushed
         modes = np.where(at_goal, "arrived", "follow").astype(object)
@@ -339,21 +334,23 @@ class CatSwarmController(Controller):
         reach (windows of :func:`~swarmpath.control.hazards.hazard_windows`). Returns (valid
         (n, 9), in danger (n,), threatened (n,), safety (n, 9) or None, warning (n, 9) or
         None, tier (n, 9): the look-ahead's rank of each candidate times TIER_SPAN plus
-        :func:`~swarmpath.control.hazards.cornered_penalty`, 0 the most cautious)."""
+        :func:`~swarmpath.control.hazards.cornered_penalty`, 0 the most cautious; for a
+        cornered robot the order of :func:`~swarmpath.control.cornered.last_resort`, cornered
+        (n,): those robots)."""
         n = len(cells)
         in_danger = np.zeros(n, bool)
         threatened = np.zeros(n, bool)
-        self.cornered_ = np.zeros(n, bool)   # robots left to cornered.last_resort this step
+        cornered = np.zeros(n, bool)   # robots left to cornered.last_resort this step
         fc = self.forecast_
         tier = np.zeros((n, 9), np.int64)
         if fc is None:
-            return valid, in_danger, threatened, None, None, tier
+            return valid, in_danger, threatened, None, None, tier, cornered
         steps = max(self.lookahead, self.hazard_horizon)
         pos = obs.positions
         hz = hazard_windows(fc, obs.obstacle_positions, obs.obstacle_previous, pos, cells, self.padded_, self.pad_,
                             steps, self.window_, margin=self.margin)
         if hz is None:
-            return valid, in_danger, threatened, None, None, tier  # no obstacle can matter this step
+            return valid, in_danger, threatened, None, None, tier, cornered  # no obstacle can matter this step
         r = hz.rows
         dest = copies[r]
         v = valid[r] & ~hz.at(hz.covered[0], dest)  # never where an obstacle may be next step
@@ -391,7 +388,7 @@ class CatSwarmController(Controller):
             v[stuck], cost = last_resort(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[stuck]],
                                          targets[r[stuck]], dest[stuck], valid[r[stuck]],
                                          ways_clear(hz, stuck, dest[stuck]))
-            self.cornered_[r[stuck]] = True
+            cornered[r[stuck]] = True
         # the tier first; a robot the obstacles close in on then takes the cell with most ways on
         tier[r] = rank * TIER_SPAN + cornered_penalty(v, rank, ways)
         if len(stuck):
@@ -413,7 +410,7 @@ class CatSwarmController(Controller):
         if self.hazard_horizon > 0 and self.hazard_weight > 0:
             warning = np.zeros((n, 9))
             warning[r] = warning_levels(hz.covered[:self.hazard_horizon], hz.local(dest), self.hazard_decay)
-        return valid, in_danger, threatened, safety, warning, tier
+        return valid, in_danger, threatened, safety, warning, tier, cornered
 
     def _held(self, pos: FloatArray, new: FloatArray, cells) -> list[int]:
         """Robots whose move starts or ends off a cell centre, checked exactly (the core's

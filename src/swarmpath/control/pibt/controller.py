@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
-from swarmpath.control.cornered import last_resort, ways_clear
+from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
 from swarmpath.control.finish import finishing_step
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
@@ -322,12 +322,7 @@ class PIBTController(Controller):
             new[i] = pos[i]
             moves[i] = STAY
             events.append({"robot": int(i), "kind": "move_withheld", "detail": "off-centre move conflicts"})
-        for i in np.flatnonzero(urgent & (moves == STAY) & ~cornered):
-            events.append({"robot": int(i), "kind": "no_escape",
-                           "detail": "a moving obstacle may reach this cell and no move leads out"})
-        for i in np.flatnonzero(cornered):
-            events.append({"robot": int(i), "kind": "no_escape",
-                           "detail": "every move ends where a moving obstacle may be next; took the least likely"})
+        events += no_escape_events(urgent & (moves == STAY), cornered)
         if result.conflicts:
             events.append({"robot": -1, "kind": "pibt_conflict", "detail": f"{result.conflicts} pairs"})
         pushed = ((result.flags & PUSHED) != 0) & (moves != STAY)
