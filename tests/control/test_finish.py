@@ -107,3 +107,64 @@ def test_a_bad_hover_is_one_clear_error(controller, hover) -> None:
     world = next(w for w in (random_case(np.random.default_rng(s), 0.0) for s in range(50)) if w is not None)
     with pytest.raises(ConfigError, match="hover must be a whole number"):
         CONTROLLERS.get(controller)(hover=hover).reset(world, None, np.random.default_rng(0))
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.3])
+def test_a_gathering_step_is_safe_and_its_chance_of_the_finish_is_right(radius) -> None:
+    """Over many random worlds and steps, whenever gathering_positions proposes a step: every
+    robot ends it within one move of its goal, the step itself has no contact by the checker,
+    no possible next step of the obstacles (sampled from their own motion models) runs into a
+    gathered robot, and the share of sampled next steps in which every robot can then step
+    home without contact is at least the chance it reports, and close to it (the walkers and
+    bouncers here are independent, so the chance is exact)."""
+    from swarmpath.control.finish import gathering_positions
+    from swarmpath.control.hazards import ObstacleForecast
+    from swarmpath.control.pibt.core import static_moves
+    from swarmpath.world.moving import advance_obstacles
+
+    rng = np.random.default_rng(11)
+    proposed = 0
+    gaps = []
+    for _ in range(3000):
+        world = random_case(rng, radius) if proposed < 40 else None
+        if world is None:
+            continue
+        grid = world.grid()
+        forecast = ObstacleForecast(world, grid, radius)
+        moves = static_moves(grid.blocked, 8)
+        stepper = WorldStepper(world, record=False)
+        stepper.reset(int(rng.integers(1000)))
+        for _ in range(3):
+            stepper.begin_step()
+            obs = stepper.observation()
+            found = gathering_positions(world, obs, forecast, grid, moves, depth=3)
+            if found is None:
+                stepper.end_step(obs.positions)
+                continue
+            mid, chance = found
+            now = step_contacts(world, obs.step, obs.positions, mid, obs.obstacle_previous, obs.obstacle_positions)
+            if any(c.detail == "obstacle moved into robot" for c in now):
+                stepper.end_step(obs.positions)   # hit before anyone moved: not the step's doing
+                continue
+            assert now == [], now
+            cells, goal_cells = grid.cell_of(mid), grid.cell_of(world.goals)
+            assert np.abs(cells - goal_cells).max() <= 1
+            assert np.all(np.linalg.norm(world.goals - mid, axis=1) <= world.max_speeds * world.dt + 1e-9)
+            samples = 100
+            outcomes: dict[bytes, list] = {}      # the obstacles' next positions drawn, and how often
+            for k in range(samples):
+                after = advance_obstacles(world, stepper.state_, np.random.default_rng(k)).positions
+                outcomes.setdefault(after.tobytes(), [after, 0])[1] += 1
+            finished = 0
+            for after, count in outcomes.values():
+                standing = step_contacts(world, obs.step + 1, mid, mid, obs.obstacle_positions, after)
+                assert standing == [], standing
+                home = step_contacts(world, obs.step + 1, mid, world.goals, obs.obstacle_positions, after)
+                finished += count * (home == [])
+            share = finished / samples
+            assert share >= chance - 4 * np.sqrt(chance * (1 - chance) / samples) - 1e-9, (share, chance)
+            gaps.append(share - chance)
+            proposed += 1
+            stepper.end_step(mid)
+    assert proposed >= 40
+    assert abs(float(np.mean(gaps))) < 0.03
