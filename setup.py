@@ -1,6 +1,7 @@
 """Build the C extensions: swarmpath.search (grid A*, distance fields, lazy distance tables),
-swarmpath.control.pibt (one PIBT step), swarmpath.control.orca (ORCA's linear programs) and
-swarmpath.optim (one particle-swarm move); all other metadata lives in pyproject.toml."""
+swarmpath.control.pibt (one PIBT step), swarmpath.control.evasion (the walker-evasion value),
+swarmpath.control.orca (ORCA's linear programs) and swarmpath.optim (one particle-swarm move);
+all other metadata lives in pyproject.toml."""
 from setuptools import Extension, setup
 
 setup(
@@ -18,6 +19,11 @@ setup(
         Extension(
             "swarmpath.control.pibt._pibt",
             ["src/swarmpath/control/pibt/_pibt.c"],
+            extra_compile_args=["-O3"],
+        ),
+        Extension(
+            "swarmpath.control.evasion._evasion",
+            ["src/swarmpath/control/evasion/_evasion.c"],
             extra_compile_args=["-O3"],
         ),
         Extension(

@@ -108,11 +108,12 @@ def test_hit_chances_match_the_walkers_own_moves_by_a_wall():
 @pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
 def test_a_cornered_robot_takes_the_move_a_walker_is_least_likely_to_hit(controller):
     """A robot on the bottom edge (cell (1, 0)) with a walker right above it (cell (1, 1)):
-    every move ends where the walker may be next. Standing is hit with chance 3/8 (the walker
-    going down or down-diagonally), the cells (0, 0) and (2, 0) with 1/8: the robot steps to
-    (2, 0), towards its goal, and reports ``no_escape``. Before, it stood."""
+    every move ends where the walker may be next. By the cell boxes, standing is hit with
+    chance 3/8 (the walker going down or down-diagonally), the cells (0, 0) and (2, 0) with
+    1/8: without the walker-evasion value the robot steps to (2, 0), towards its goal, and
+    reports ``no_escape``. Before, it stood."""
     world = open_world((9, 4), [(1, 1, RandomWalk())], robots=[Robot("a", (1.5, 0.5), (8.5, 0.5), 0.0, S2)])
-    ctrl = CONTROLLERS.get(controller)()
+    ctrl = CONTROLLERS.get(controller)(evasion_horizon=0)
     ctrl.reset(world, None, np.random.default_rng(0))
     pos = np.array([[1.5, 0.5]])
     walker = np.array([[1.5, 1.5]])
@@ -123,4 +124,32 @@ def test_a_cornered_robot_takes_the_move_a_walker_is_least_likely_to_hit(control
     assert np.allclose(chance, [[3 / 8, 1 / 8, 1 / 8, 3 / 8, 3 / 8]])
     decision = ctrl.act(obs)
     assert tuple(decision.positions[0]) == (2.5, 0.5)
+    assert any(e["kind"] == "no_escape" and e["robot"] == 0 for e in decision.events)
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_a_cornered_robot_weighs_a_walker_by_its_exact_chance_over_the_horizon(controller):
+    """The same corner with the walker-evasion value (the default): by the checker's geometry a
+    walker's diagonal step only touches the corner of a point robot's cell, so every move
+    beside it is hit with chance 1/8 this step; over 8 steps the edge is worse than the open
+    row, where the robot can keep dodging. The robot takes the move of least exact risk,
+    (2, 1), and still reports ``no_escape`` (every move ends inside the cell boxes)."""
+    from swarmpath.control.evasion import EvasionRisk
+    from swarmpath.control.pibt.core import static_moves
+
+    world = open_world((9, 4), [(1, 1, RandomWalk())], robots=[Robot("a", (1.5, 0.5), (8.5, 0.5), 0.0, S2)])
+    ctrl = CONTROLLERS.get(controller)()
+    ctrl.reset(world, None, np.random.default_rng(0))
+    pos = np.array([[1.5, 0.5]])
+    walker = np.array([[1.5, 1.5]])
+    obs = Observation(1, 1.0, pos, world.goals, np.array([False]), walker, walker,
+                      sense(pos, walker, SensingConfig(), world.resolution))
+    grid = world.grid()
+    risk = EvasionRisk(world, grid, static_moves(grid.blocked, 8), ObstacleForecast(world, grid), 0.0, 8)
+    one_step = EvasionRisk(world, grid, static_moves(grid.blocked, 8), ObstacleForecast(world, grid), 0.0, 1)
+    np.testing.assert_allclose(one_step.move_risk(np.array([[1, 0]]), walker)[0, [0, 1, 2, 4, 5]], 1 / 8)
+    exact = risk.move_risk(np.array([[1, 0]]), walker)[0]
+    assert int(np.argmin(exact)) == 2 and exact[2] < exact[[0, 1, 4, 5]].min() - 0.005
+    decision = ctrl.act(obs)
+    assert tuple(decision.positions[0]) == (2.5, 1.5)
     assert any(e["kind"] == "no_escape" and e["robot"] == 0 for e in decision.events)

@@ -478,16 +478,19 @@ def test_a_robot_in_a_pocket_leaves_before_a_walker_can_close_its_mouth(controll
     """A pocket two cells wide is shut by one walker as surely as a 1-cell nook (the robot may
     not end a step next to it), so robots next to one look DEAD_END_EXTRA steps further too:
     with the walker 2 cells below the mouth the robot heads out now, 3 cells below it stays.
-    Without pockets (only 1-wide dead ends) it stays in both."""
+    Without pockets (only 1-wide dead ends) and without the walker-evasion value (which sees
+    the pocket's risk by itself: the robot then leaves too) it stays in both."""
     from swarmpath.control import hazards
     from swarmpath.registry import CONTROLLERS
 
-    def first_move(walker):
-        traj = Simulator(_pocket_world(walker), CONTROLLERS.get(controller)(), None, seed=0, max_steps=1).run()
+    def first_move(walker, **params):
+        traj = Simulator(_pocket_world(walker), CONTROLLERS.get(controller)(**params), None, seed=0,
+                         max_steps=1).run()
         return tuple(traj.positions[1][0])
 
     assert hazards.pocket_cells(static_moves(_pocket_world((0, 0)).static_map.blocked, 8))[6:8, 8:10].all()
     assert first_move((9, 2)) == (9.5, 6.5)
     assert first_move((9, 1)) == (9.5, 7.5)
     monkeypatch.setattr(hazards, "pocket_cells", lambda moves: np.zeros(np.shape(moves)[:2], bool))
-    assert first_move((9, 2)) == (9.5, 7.5)
+    assert first_move((9, 2), evasion_horizon=0) == (9.5, 7.5)
+    assert first_move((9, 2)) == (9.5, 6.5)

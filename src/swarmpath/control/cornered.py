@@ -46,14 +46,15 @@ def move_weights(possible: BoolArray, extra: FloatArray) -> FloatArray:
     return np.where(p, 1.0 / np.maximum(count, 1), 0.0)
 
 
-def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: FloatArray, cells: IntArray
-                ) -> tuple[FloatArray, BoolArray]:
+def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: FloatArray, cells: IntArray,
+                skip: BoolArray | None = None) -> tuple[FloatArray, BoolArray]:
     """For robots ending their step in grid ``cells`` (k, c, 2): the expected number of moving
     obstacles (at ``positions`` (m, 2), one step earlier ``previous``) whose sweep to their
     next position covers the cell, shape (k, c), each next position weighted by
-    :func:`move_weights`; and whether an obstacle covers the cell where it stands now (k, c):
-    a contact in this very step. A cell is covered as in the forecast's D_1: the sweep's
-    bounding box, grown by the robots' radius, overlaps the cell's open square."""
+    :func:`move_weights`, leaving out the obstacles ``skip`` (m,) marks; and whether an
+    obstacle (any) covers the cell where it stands now (k, c): a contact in this very step. A
+    cell is covered as in the forecast's D_1: the sweep's bounding box, grown by the robots'
+    radius, overlaps the cell's open square."""
     cells = np.asarray(cells, np.int64)
     k, c = cells.shape[:2]
     if forecast.m == 0 or k == 0:
@@ -61,6 +62,8 @@ def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
     p = np.asarray(positions, float).reshape(forecast.m, 2)
     cand, possible, extra = forecast.next_positions(p, previous)
     weight = move_weights(possible, extra)
+    if skip is not None:
+        weight[np.asarray(skip, bool)] = 0.0
     j, s = np.nonzero(weight)
     q = cand[j, s]
     lo = np.minimum(p[j], q) + forecast.keep_lo[j] - extra[j, None]
@@ -95,20 +98,29 @@ def ways_clear(hz: HazardWindows, local_rows: IntArray, dest: IntArray) -> IntAr
 
 
 def last_resort(forecast: ObstacleForecast, positions: FloatArray, previous: FloatArray, starts: FloatArray,
-                targets: FloatArray, dest: IntArray, feasible: BoolArray, ways: IntArray
+                targets: FloatArray, dest: IntArray, feasible: BoolArray, ways: IntArray,
+                walker_risk: FloatArray | None = None, walkers: BoolArray | None = None
                 ) -> tuple[BoolArray, FloatArray]:
     """The moves cornered robots may take, and their order. ``starts`` (r, 2) where the robots
     are, ``targets`` (r, 9, 2) where each move ends (move 0: stay) and ``dest`` (r, 9, 2) its
     grid cell, ``feasible`` (r, 9) the moves the static map and the robot's reach allow,
-    ``ways`` (r, 9) from :func:`ways_clear`.
+    ``ways`` (r, 9) from :func:`ways_clear`. ``walker_risk`` (r, 9), with ``walkers`` (m,)
+    marking the obstacles it accounts for: the exact chance of each move being caught by those
+    random walkers (:mod:`swarmpath.control.evasion`), which then replaces their hit chance.
 
     Returns (allowed (r, 9), cost (r, 9)). A move is allowed unless it ends in or passes
     through an obstacle where it stands now; staying, unless an obstacle covers the robot now.
-    The cost is the hit chance of :func:`hit_chances` (rounded to
+    The cost is the hit chance of :func:`hit_chances` (plus ``walker_risk``; rounded to
     :data:`CHANCE_RESOLUTION`) plus ``(9 - ways) * CHANCE_RESOLUTION / 10``: the least likely
-    hit first, then the most ways on. The caller adds the distance to the goal below both."""
+    hit first, then the most ways on. The caller adds the distance to the goal below both.
+
+    Why the walkers' exact chance: the cell boxes count a walker's diagonal step past a robot
+    beside it as a hit, which the checker's geometry does not, and a move that is safe this
+    step can be a dead end the walker closes the next; the evasion value weighs both."""
     positions = np.asarray(positions, float)
-    chance, now = hit_chances(forecast, positions, previous, dest)
+    chance, now = hit_chances(forecast, positions, previous, dest, skip=walkers if walker_risk is not None else None)
+    if walker_risk is not None:
+        chance = chance + np.asarray(walker_risk, float)
     allowed = np.asarray(feasible, bool) & ~now
     allowed &= ~forecast.crossings(np.asarray(starts, float), np.asarray(targets, float), positions)
     allowed[:, 0] = ~now[:, 0]

@@ -44,7 +44,8 @@ from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
-from swarmpath.control.finish import finishing_step
+from swarmpath.control.evasion import EvasionRisk, check_evasion
+from swarmpath.control.finish import finishing_step, gathering_step
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
     ObstacleForecast,
@@ -120,6 +121,14 @@ class CatSwarmController(Controller):
             :mod:`swarmpath.control.finish`).
         hover : within this many cells of its goal a robot keeps only the next step clear
             instead of ``leave_early`` steps (None: nowhere; 0: on its goal; see ``pibt``).
+        evasion_horizon, evasion_weight : with random walkers, a robot near one ranks its
+            copies, right after the look-ahead's tier, by the exact chance of being hit within
+            ``evasion_horizon`` steps if it dodges as well as it can
+            (:mod:`swarmpath.control.evasion`), in units of 1 / ``evasion_weight`` (8, 1e4; as
+            in ``pibt``); 0: off.
+        gather : with ``finish_together``, a gathering step sets up the finish when every
+            robot is within two cells of its goal (True; see ``pibt`` and
+            :func:`~swarmpath.control.finish.gathering_positions`).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -129,7 +138,10 @@ class CatSwarmController(Controller):
                  hazard_horizon: int = 4, hazard_weight: float = 2.0, hazard_decay: float = 0.7, lead: bool = True,
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
-                 hover: int | None = None):
+                 hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True):
+        self.evasion_horizon = evasion_horizon
+        self.evasion_weight = evasion_weight
+        self.gather = gather
         self.hover = hover
         self.finish_together = finish_together
         self.stalled_lookahead = stalled_lookahead
@@ -172,6 +184,7 @@ class CatSwarmController(Controller):
             raise ConfigError(f"cat-swarm: hover must be a whole number >= 0 or None, got {self.hover!r}")
         if (self.patience is not None and self.patience < 1) or self.report_after < 1:
             raise ConfigError("cat-swarm: patience (or None) and report_after must be >= 1")
+        check_evasion(self.evasion_horizon, self.evasion_weight, "cat-swarm")
 
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self._check_parameters()
@@ -203,6 +216,9 @@ class CatSwarmController(Controller):
             self.pad_ = self.window_ + 2 + DEAD_END_EXTRA
             self.dead_end_ = trap_cells(K.move_table(blocked))
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
+        self.moves_ = K.move_table(blocked)
+        self.evasion_ = EvasionRisk(world, self.grid_, self.moves_, self.forecast_, radius,
+                                    self.evasion_horizon) if self.forecast_ is not None and self.evasion_horizon else None
         self.pushes_ = np.zeros(n, np.int64)
 
     # ------------------------------------------------------------------ eq. 12
@@ -265,6 +281,8 @@ class CatSwarmController(Controller):
             return Decision(obs.positions.copy(), [])
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)
+            if done is None and self.gather:
+                done = gathering_step(self.world_, obs, self.forecast_, self.grid_, self.moves_, self.lookahead)
             if done is not None:
                 return done
         pos, goals, at_goal = obs.positions, obs.goals, obs.at_goal
@@ -301,8 +319,12 @@ class CatSwarmController(Controller):
         score = fitness if warning is None else fitness + self.hazard_weight * warning
         keys = swarm_keys(fitness, score, tie13, safety, path_next, follow, path_ok, stay_first,
                           first & reachable, self.keep_present)
-        # a robot that must leave ranks the look-ahead's tiers first (all its candidates stay)
-        rank = dense_ranks([tier] + keys, valid)
+        # a robot that must leave ranks the look-ahead's tiers first (all its candidates stay),
+        # then, near a random walker, the chance of being caught (in units of 1 / evasion_weight)
+        evade = np.zeros((n, 9))
+        if self.evasion_ is not None and self.forecast_ is not None:
+            evade = np.floor(self.evasion_weight * self.evasion_.move_risk(cells, obs.obstacle_positions))
+        rank = dense_ranks([tier, evade] + keys, valid)
         order = decision_order(self.priority_, in_danger | threatened, valid.sum(axis=1))
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
         result = pibt_step_escaping(self.graph_, flat, rank, valid, self.rng_.random((n, 9)), order,
@@ -385,9 +407,13 @@ class CatSwarmController(Controller):
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
         if len(stuck):
+            walker_risk = walkers = None
+            if self.evasion_ is not None:
+                walkers = self.evasion_.modelled(obs.obstacle_positions)
+                walker_risk = self.evasion_.move_risk(cells[r[stuck]], obs.obstacle_positions)
             v[stuck], cost = last_resort(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[stuck]],
                                          targets[r[stuck]], dest[stuck], valid[r[stuck]],
-                                         ways_clear(hz, stuck, dest[stuck]))
+                                         ways_clear(hz, stuck, dest[stuck]), walker_risk, walkers)
             cornered[r[stuck]] = True
         # the tier first; a robot the obstacles close in on then takes the cell with most ways on
         tier[r] = rank * TIER_SPAN + cornered_penalty(v, rank, ways)

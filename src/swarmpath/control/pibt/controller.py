@@ -23,7 +23,8 @@ from numpy.typing import NDArray
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
-from swarmpath.control.finish import finishing_step
+from swarmpath.control.evasion import EvasionRisk, check_evasion
+from swarmpath.control.finish import finishing_step, gathering_step
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -119,13 +120,31 @@ class PIBTController(Controller):
         threatened goals. With ``finish_together`` more runs then end with every robot home
         at once; waiting closer to obstacles costs some contacts from 1 cell on. None
         (default): ``leave_early`` applies everywhere. Measured in docs/algorithms/pibt.md.
+    evasion_horizon : int
+        With random walkers (``random-walk`` obstacles stepping one cell): a robot near one
+        ranks its candidates, within their look-ahead tier, by the exact chance of being hit
+        within this many steps if it dodges as well as it can afterwards
+        (:mod:`swarmpath.control.evasion`), before the distance to its goal. 8 (default); 0:
+        off.
+    evasion_weight : float
+        Cells of distance to its goal a robot gives up to lower that chance by 1 (1e4: a
+        one-in-ten-thousand chance weighs as much as one cell).
+    gather : bool
+        With ``finish_together``: when every robot is within two cells of its goal, all step
+        to cells one move from their goals in one step, if that is safe and makes the
+        finishing step likely next step (:func:`~swarmpath.control.finish.gathering_positions`).
+        True (default).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
 
     def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 2,
                  landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0,
-                 finish_together: bool = True, hover: int | None = None):
+                 finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
+                 evasion_weight: float = 1e4, gather: bool = True):
+        self.evasion_horizon = evasion_horizon
+        self.evasion_weight = evasion_weight
+        self.gather = gather
         self.hover = hover
         self.finish_together = finish_together
         self.leave_early = leave_early
@@ -147,6 +166,7 @@ class PIBTController(Controller):
         if self.hover is not None and (isinstance(self.hover, bool) or not isinstance(self.hover, (int, np.integer))
                                        or self.hover < 0):
             raise ConfigError(f"pibt: hover must be a whole number >= 0 or None, got {self.hover!r}")
+        check_evasion(self.evasion_horizon, self.evasion_weight, "pibt")
         n = world.n_robots
         res = world.resolution
         radius = float(world.radii.max(initial=0.0))
@@ -174,6 +194,8 @@ class PIBTController(Controller):
             self.pad_ = self.lookahead + 2 + DEAD_END_EXTRA
             self.dead_end_ = trap_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
+        self.evasion_ = EvasionRisk(world, grid, self.moves_, self.forecast_, radius, self.evasion_horizon) \
+            if self.forecast_ is not None and self.evasion_horizon else None
 
     def _cells(self, points: FloatArray) -> NDArray[np.int64]:
         cells = self.grid_.cell_of(np.asarray(points, float).reshape(-1, 2))
@@ -224,6 +246,8 @@ class PIBTController(Controller):
         n = len(pos)
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)
+            if done is None and self.gather:
+                done = gathering_step(self.world_, obs, self.forecast_, self.grid_, self.moves_, 1 + self.lookahead)
             if done is not None:
                 return done
         cells = self._cells(pos)
@@ -280,6 +304,9 @@ class PIBTController(Controller):
                             base[k], dest[k], depth, fallback=urgent[rows[k]])
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
                 ranks[rows] = rank
+            if self.evasion_ is not None:
+                # within a tier: the move least likely to be caught by a random walker
+                dist[rows] += self.evasion_weight * self.evasion_.move_risk(cells[rows], obs.obstacle_positions)
             if self.leave_early:
                 # prefer the candidates that stay clear of every obstacle longest (up to leave_early steps;
                 # one step for robots within `hover` cells of their goals, which wait beside it)
@@ -299,8 +326,12 @@ class PIBTController(Controller):
                 targets, _ = self._targets(pos, cells, stuck)
                 dest = cells[stuck, None, :] + GRID_MOVES[None]
                 ways = ways_clear(hz, np.searchsorted(hz.rows, stuck), dest)
+                walker_risk = walkers = None
+                if self.evasion_ is not None:
+                    walkers = self.evasion_.modelled(obs.obstacle_positions)
+                    walker_risk = self.evasion_.move_risk(cells[stuck], obs.obstacle_positions)
                 ok, cost = last_resort(self.forecast_, obs.obstacle_positions, obs.obstacle_previous, pos[stuck],
-                                       targets, dest, feasible[stuck], ways)
+                                       targets, dest, feasible[stuck], ways, walker_risk, walkers)
                 allowed[stuck] = ok
                 dist[stuck] = np.where(ok, np.nan_to_num(goal_dist[stuck]) + LAST_RESORT_WEIGHT * cost, np.nan)
                 ranks[stuck] = 0

@@ -1,0 +1,104 @@
+"""The walker-evasion risk of every move of the robots near random walkers, for a grid
+controller: one :class:`~swarmpath.control.evasion.walker.WalkerEvasion` per kind of walker in
+the world, queried for each robot against each walker within reach, the walkers taken as
+independent (1 - prod(1 - risk))."""
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from swarmpath.control.evasion.walker import EVASION_RADIUS, WalkerEvasion, walker_model
+from swarmpath.control.hazards import RANDOM_WALK, ObstacleForecast
+from swarmpath.world.move_rules import GRID_MOVES
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+class EvasionRisk:
+    """Walker-evasion risk for the grid robots of one world.
+
+    Walkers whose steps are one grid cell (``random-walk`` with step length = the grid's
+    resolution) are modelled exactly, one :class:`WalkerEvasion` per footprint shape; other
+    obstacles are not (the look-ahead tiers cover them). A walker off a cell centre (it started
+    there) is skipped.
+
+    Parameters
+    ----------
+    world, grid : the world and the controller's grid (robots move between its cell centres)
+    moves : bool (height, width, 9), the robots' static moves
+    forecast : the controller's :class:`~swarmpath.control.hazards.ObstacleForecast`
+    robot_radius : the robots' (largest) radius
+    horizon : steps looked ahead (>= 1)
+    """
+
+    def __init__(self, world, grid, moves: NDArray[np.bool_], forecast: ObstacleForecast, robot_radius: float,
+                 horizon: int):
+        self.resolution = grid.resolution
+        self.shape = grid.blocked.shape
+        self.moves = np.asarray(moves, bool)
+        res = grid.resolution
+        walkers = np.flatnonzero((forecast.code == RANDOM_WALK) & np.isclose(forecast.walk_step, res))
+        self.groups: list[tuple[WalkerEvasion, IntArray]] = []
+        if len(walkers) == 0:
+            return
+        h, w = self.shape
+        ys, xs = np.mgrid[0:h, 0:w]
+        centres = (np.stack([xs, ys], axis=-1) + 0.5) * res                   # (h, w, 2)
+        for shape_id in np.unique(forecast.shape_of[walkers]):
+            members = walkers[forecast.shape_of[walkers] == shape_id]
+            j = int(members[0])
+            where = (centres[:, :, None, :] + GRID_MOVES[None, None] * res).reshape(-1, 2)
+            fits = forecast.fits(np.full(len(where), j), where).reshape(h, w, 9)
+            model = walker_model(world.moving_obstacles[j].placed((0.0, 0.0)), fits, robot_radius, res)
+            self.groups.append((WalkerEvasion(moves, model, horizon), members))
+
+    def modelled(self, obstacle_positions: FloatArray) -> NDArray[np.bool_]:
+        """Which obstacles (m,) :meth:`move_risk` accounts for: the walkers standing on a cell
+        centre."""
+        positions = np.asarray(obstacle_positions, float).reshape(-1, 2)
+        out = np.zeros(len(positions), bool)
+        for _, members in self.groups:
+            out[members] = self._on_centre(positions[members])
+        return out
+
+    def _on_centre(self, p: FloatArray) -> NDArray[np.bool_]:
+        res = self.resolution
+        wc = np.floor(p / res + 1e-9)
+        return np.all(np.abs(p - (wc + 0.5) * res) <= 1e-9 * max(res, 1.0), axis=1)
+
+    def move_risk(self, cells: IntArray, obstacle_positions: FloatArray) -> FloatArray:
+        """For robots on grid ``cells`` (r, 2): the chance that each of their 9 moves meets a
+        walker within the horizon (the walkers as independent), shape (r, 9); 0 everywhere
+        when no walker is within :data:`EVASION_RADIUS` cells; 1 for moves the static map
+        forbids."""
+        cells = np.asarray(cells, np.int64).reshape(-1, 2)
+        clear = np.ones((len(cells), 9))
+        res = self.resolution
+        positions = np.asarray(obstacle_positions, float).reshape(-1, 2)
+        for table, members in self.groups:
+            p = positions[members]
+            wc = np.floor(p / res + 1e-9).astype(np.int64)[self._on_centre(p)]
+            if len(wc) == 0:
+                continue
+            off = np.abs(wc[None, :, :] - cells[:, None, :]).max(axis=2)               # (r, k)
+            ri, wi = np.nonzero(off <= EVASION_RADIUS)
+            if len(ri) == 0:
+                continue
+            risk = table.move_risk(cells[ri], wc[wi])
+            np.multiply.at(clear, ri, 1 - risk)
+        h, w = self.shape
+        allowed = self.moves[np.clip(cells[:, 1], 0, h - 1), np.clip(cells[:, 0], 0, w - 1)]
+        return np.where(allowed, 1 - clear, 1.0)
+
+
+def check_evasion(horizon, weight, controller: str) -> None:
+    """Raise :class:`~swarmpath.errors.ConfigError` naming the setting unless ``horizon`` is a
+    whole number >= 0 and ``weight`` a finite number >= 0 (the controllers' evasion settings)."""
+    from swarmpath.errors import ConfigError
+
+    if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)) or horizon < 0:
+        raise ConfigError(f"{controller}: evasion_horizon must be a whole number >= 0, got {horizon!r}")
+    if isinstance(weight, bool) or not isinstance(weight, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(weight) or weight < 0:
+        raise ConfigError(f"{controller}: evasion_weight must be a finite number >= 0, got {weight!r}")

@@ -1,0 +1,197 @@
+"""Evading random walkers (swarmpath.control.evasion): the dynamic program's risks equal an
+exact game-tree reference built only from the world's own motion model and the simulator's
+contact checker; the lazily computed tiles equal the whole map; and the controllers' settings
+are checked."""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+from swarmpath.control.evasion import EVASION_RADIUS, EvasionRisk, WalkerEvasion, walker
+from swarmpath.control.hazards import ObstacleForecast
+from swarmpath.control.pibt.core import static_moves
+from swarmpath.errors import ConfigError
+from swarmpath.registry import CONTROLLERS
+from swarmpath.sim.collisions import robot_moving_contacts
+from swarmpath.world import Circle, Rect, RectBounds, Robot, StaticMap, World
+from swarmpath.world.move_rules import GRID_MOVES
+from swarmpath.world.moving import Bounce8, MovingObstacle, RandomWalk
+
+S2 = float(np.sqrt(2))
+DIRECTIONS = [(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)]
+
+
+def walled_world(shape, robot_radius: float, seed: int = 3, size: int = 12) -> World:
+    """A size x size map with a wall, a pocket and random blocked cells, one robot and one
+    random walker of footprint ``shape``."""
+    rng = np.random.default_rng(seed)
+    blocked = rng.random((size, size)) < 0.12
+    blocked[4, 2:9] = True              # a wall
+    blocked[7:10, 6] = blocked[7:10, 8] = True
+    blocked[9, 6:9] = True              # a pocket open at the top
+    free = np.argwhere(~blocked)[:, ::-1]
+    walker_at = free[0]
+    robot = Robot("r", tuple(free[-1] + 0.5), tuple(free[-1] + 0.5), robot_radius, S2)
+    moving = (MovingObstacle("w", shape, tuple(walker_at + 0.5), (1.0, 0.0), RandomWalk()),)
+    return World(RectBounds(size, size), static_map=StaticMap(blocked, 1.0), moving_obstacles=moving,
+                 robots=(robot,), name="walled")
+
+
+def reference_risks(world: World, moves: np.ndarray, horizon: int, robot, walker_cell) -> np.ndarray:
+    """The chance of each of the robot's 9 moves ending in a contact within ``horizon`` steps
+    when it plays best afterwards, by plain expectimax over the game tree: the walker's steps
+    from the world's own ``obstacle_fits`` (uniform over the directions that fit, as the
+    ``random-walk`` model draws them), contacts from the simulator's checker, walkers farther
+    than EVASION_RADIUS cells counted as escaped from (as the dynamic program does)."""
+    ob = world.moving_obstacles[0]
+    radii = world.radii
+    centre = lambda c: np.array([[c[0] + 0.5, c[1] + 0.5]])  # noqa: E731
+
+    @lru_cache(maxsize=None)
+    def contact_at(r0, r1, w1) -> bool:        # offsets from the walker's start: contacts do not depend on where
+        return bool(robot_moving_contacts(world, centre(r0), centre(r1), centre((0, 0)), centre(w1), radii))
+
+    def contact(r0, r1, w0, w1) -> bool:
+        rel = lambda c: (c[0] - w0[0], c[1] - w0[1])  # noqa: E731
+        return contact_at(rel(r0), rel(r1), rel(w1))
+
+    @lru_cache(maxsize=None)
+    def steps(w):
+        fits = [d for d in DIRECTIONS if world.obstacle_fits(ob, centre((w[0] + d[0], w[1] + d[1])))[0]]
+        return fits or [(0, 0)]
+
+    @lru_cache(maxsize=None)
+    def q(k, r, w, a):
+        if not moves[r[1], r[0], a]:
+            return 1.0
+        r1 = (r[0] + int(GRID_MOVES[a][0]), r[1] + int(GRID_MOVES[a][1]))
+        if contact(r, r1, w, w):                  # the robot moves into the walker where it stands
+            return 1.0
+        out = 0.0
+        for d in steps(w):
+            w1 = (w[0] + d[0], w[1] + d[1])
+            if contact(r1, r1, w, w1):            # the walker's step sweeps over the robot
+                out += 1.0 / len(steps(w))
+            elif k > 1 and max(abs(w1[0] - r1[0]), abs(w1[1] - r1[1])) <= EVASION_RADIUS:
+                out += min(q(k - 1, r1, w1, b) for b in range(9)) / len(steps(w))
+        return out
+
+    return np.array([q(horizon, tuple(robot), tuple(walker_cell), a) for a in range(9)])
+
+
+@pytest.mark.parametrize("shape,robot_radius", [(Rect((-0.5, -0.5), (0.5, 0.5)), 0.0),
+                                                (Rect((-0.5, -0.5), (0.5, 0.5)), 0.35),
+                                                (Circle((0.0, 0.0), 0.45), 0.3)])
+def test_move_risks_equal_the_exact_game_tree(shape, robot_radius) -> None:
+    """For robot-walker pairs near a wall, in a pocket and in the open, every move's risk over 3
+    steps equals plain expectimax on the motion model and the checker."""
+    world = walled_world(shape, robot_radius)
+    grid = world.grid()
+    moves = static_moves(grid.blocked, 8)
+    risk = EvasionRisk(world, grid, moves, ObstacleForecast(world, grid, robot_radius), robot_radius, 3)
+    assert len(risk.groups) == 1
+    table = risk.groups[0][0]
+    rng = np.random.default_rng(0)
+    free = np.argwhere(~grid.blocked)[:, ::-1]
+    pairs = [((7, 8), (7, 6)), ((7, 8), (6, 6)), ((3, 5), (4, 6))]     # in the pocket, by the wall
+    while len(pairs) < 14:
+        r, w = free[rng.integers(len(free))], free[rng.integers(len(free))]
+        if 1 <= np.abs(r - w).max() <= 3 and world.obstacle_fits(world.moving_obstacles[0], [w + 0.5])[0]:
+            pairs.append((tuple(int(v) for v in r), tuple(int(v) for v in w)))
+    tested = 0
+    for r, w in pairs:
+        if grid.blocked[r[1], r[0]] or not world.obstacle_fits(world.moving_obstacles[0], [np.add(w, 0.5)])[0]:
+            continue
+        if robot_moving_contacts(world, np.add([r], 0.5), np.add([r], 0.5), np.add([w], 0.5), np.add([w], 0.5),
+                                 world.radii):
+            continue                                                    # already touching
+        got = table.move_risk(np.array([r]), np.array([w]))[0]
+        want = reference_risks(world, moves, 3, r, w)
+        np.testing.assert_allclose(got, want, atol=1e-6, err_msg=f"robot {r}, walker {w}")
+        tested += 1
+    assert tested >= 10
+
+
+def test_the_pocket_is_riskier_than_the_open() -> None:
+    """A robot in a pocket with a walker at its mouth cannot get away; in the open it can: the
+    best move's risk tells them apart where the worst case cannot."""
+    world = walled_world(Rect((-0.5, -0.5), (0.5, 0.5)), 0.0)
+    grid = world.grid()
+    moves = static_moves(grid.blocked, 8)
+    risk = EvasionRisk(world, grid, moves, ObstacleForecast(world, grid), 0.0, 6)
+    table = risk.groups[0][0]
+    pocket = table.move_risk(np.array([[7, 8]]), np.array([[7, 6]]))[0].min()
+    open_ = table.move_risk(np.array([[2, 1]]), np.array([[2, 3]]))[0].min()
+    assert pocket > 0.05 and open_ < 0.01 and pocket > 10 * open_
+
+
+def test_lazy_tiles_equal_the_whole_map_in_any_order(monkeypatch) -> None:
+    """Values queried cell by cell in a fresh table, in another order, and with the tile memory
+    dropped after every query (a tiny memory cap) are the same numbers."""
+    world = walled_world(Rect((-0.5, -0.5), (0.5, 0.5)), 0.2, size=20, seed=5)
+    grid = world.grid()
+    moves = static_moves(grid.blocked, 8)
+    forecast = ObstacleForecast(world, grid, 0.2)
+    rng = np.random.default_rng(1)
+    free = np.argwhere(~grid.blocked)[:, ::-1]
+    robots = free[rng.integers(len(free), size=60)]
+    walkers = np.clip(robots + rng.integers(-4, 5, size=(60, 2)), 0, 19)
+    whole = EvasionRisk(world, grid, moves, forecast, 0.2, 5).groups[0][0]
+    whole.values(4, free)                               # every tile of every layer
+    first = whole.move_risk(robots, walkers)
+    fresh = EvasionRisk(world, grid, moves, forecast, 0.2, 5).groups[0][0]
+    backwards = np.array([fresh.move_risk(robots[i:i + 1], walkers[i:i + 1])[0] for i in range(59, -1, -1)])[::-1]
+    np.testing.assert_array_equal(first, backwards)
+    monkeypatch.setattr(walker, "MAX_BYTES", 1)
+    dropping = EvasionRisk(world, grid, moves, forecast, 0.2, 5).groups[0][0]
+    again = np.array([dropping.move_risk(robots[i:i + 1], walkers[i:i + 1])[0] for i in range(60)])
+    np.testing.assert_array_equal(first, again)
+    assert dropping.bytes_ < whole.bytes_
+
+
+def test_only_walkers_count_and_far_ones_do_not() -> None:
+    """Bouncers are not walkers (no table); a walker more than EVASION_RADIUS cells away adds no
+    risk; moves the static map forbids score 1."""
+    blocked = np.zeros((16, 16), bool)
+    blocked[0, 1] = True
+    box = Rect((-0.5, -0.5), (0.5, 0.5))
+    bounce = (MovingObstacle("b", box, (8.5, 8.5), (1.0, 0.0), Bounce8()),)
+    robot = (Robot("r", (0.5, 0.5), (0.5, 0.5), 0.0, S2),)
+    world = World(RectBounds(16, 16), static_map=StaticMap(blocked, 1.0), moving_obstacles=bounce, robots=robot)
+    grid = world.grid()
+    moves = static_moves(blocked, 8)
+    assert EvasionRisk(world, grid, moves, ObstacleForecast(world, grid), 0.0, 8).groups == []
+    far = world.replace(moving_obstacles=(MovingObstacle("w", box, (0.5 + EVASION_RADIUS + 1, 0.5), (1.0, 0.0),
+                                                         RandomWalk()),))
+    risk = EvasionRisk(far, grid, moves, ObstacleForecast(far, grid), 0.0, 8)
+    got = risk.move_risk(np.array([[0, 0]]), far.moving_obstacles[0].start)[0]
+    np.testing.assert_array_equal(got, np.where(moves[0, 0], 0.0, 1.0))
+    near = risk.move_risk(np.array([[3, 3]]), np.array([[5.5, 3.5]]))[0]
+    assert np.all(near[moves[3, 3]] > 0) and np.all(near < 1)
+
+
+def test_controllers_run_the_same_with_evasion_off_when_no_walker_exists() -> None:
+    """Without random walkers the evasion settings change nothing (same seed, same run)."""
+    from swarmpath.sim import Simulator
+
+    blocked = np.zeros((10, 10), bool)
+    blocked[5, 1:8] = True
+    robots = tuple(Robot(f"r{i}", (i + 0.5, 0.5), (9 - i + 0.5, 9.5), 0.0, S2) for i in range(4))
+    moving = (MovingObstacle("b", Rect((-0.5, -0.5), (0.5, 0.5)), (8.5, 3.5), (1.0, 0.0), Bounce8()),)
+    world = World(RectBounds(10, 10), static_map=StaticMap(blocked, 1.0), moving_obstacles=moving, robots=robots)
+    for name in ("pibt", "cat-swarm"):
+        on = Simulator(world, CONTROLLERS.get(name)(), None, seed=4).run()
+        off = Simulator(world, CONTROLLERS.get(name)(evasion_horizon=0), None, seed=4).run()
+        np.testing.assert_array_equal(on.positions, off.positions)
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+@pytest.mark.parametrize("setting,value", [("evasion_horizon", -1), ("evasion_horizon", 2.5),
+                                           ("evasion_horizon", True), ("evasion_weight", -1.0),
+                                           ("evasion_weight", float("nan")), ("evasion_weight", "high")])
+def test_bad_evasion_settings_are_one_clear_error(controller, setting, value) -> None:
+    world = walled_world(Rect((-0.5, -0.5), (0.5, 0.5)), 0.0)
+    with pytest.raises(ConfigError, match=setting):
+        CONTROLLERS.get(controller)(**{setting: value}).reset(world, None, np.random.default_rng(0))
