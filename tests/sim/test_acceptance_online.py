@@ -117,18 +117,18 @@ def checked_run(controller: str, seed: int, **params) -> tuple:
 def test_100_robots_among_20_moving_obstacles_all_home_at_once(controller) -> None:
     """20 seeds, the controllers' defaults: every robot reaches its goal, no robot-robot or
     robot-static contact, a robot-moving contact only after the robot reported ``no_escape``;
-    and on 18 seeds or more every robot stands on its goal at the end with no contact of any
-    kind (the run ends in the step on which all step home together; pibt 19, cat-swarm 19 of
-    these 20; over seeds 200-399, held out, pibt 182, cat-swarm 179 of 200: docs/algorithms/pibt.md).
-    The obstacles never stop,
-    and a robot waiting in a corner can be pinned by two of them at once."""
+    and on 19 seeds or more every robot stands on its goal at the end with no contact of any
+    kind (the run ends in the step on which all step home together; pibt 20, cat-swarm 19 of
+    these 20; over seeds 1500-1699, held out, pibt 193, cat-swarm 194 of 200:
+    docs/algorithms/pibt.md). The obstacles never stop, and a random walker can still catch a
+    robot that dodges as well as it can."""
     wins = 0
     for seed in range(20):
         traj, success = checked_run(controller, seed)
         wins += success
         print(f"\nrandom64 {controller} seed {seed}: {traj.status} at step {traj.n_steps}, "
               f"contacts {len(traj.contacts)}, success {success}")
-    assert wins >= 18, (controller, wins)
+    assert wins >= 19, (controller, wins)
 
 
 def goal_danger_steps(seed: int, steps: int = 250) -> tuple[np.ndarray, int]:
