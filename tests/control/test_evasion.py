@@ -151,6 +151,36 @@ def test_lazy_tiles_equal_the_whole_map_in_any_order(monkeypatch) -> None:
     assert dropping.bytes_ < whole.bytes_
 
 
+def test_memory_cap_drops_the_least_recently_used_tiles(monkeypatch) -> None:
+    """Over the cap, the tiles no query has used for longest go first: a robot queried step
+    after step keeps its tiles (the same arrays, not computed again) while tiles used once
+    elsewhere are dropped, and the numbers stay the same."""
+    world = walled_world(Rect((-0.5, -0.5), (0.5, 0.5)), 0.2, size=40, seed=2)
+    grid = world.grid()
+    moves = static_moves(grid.blocked, 8)
+    forecast = ObstacleForecast(world, grid, 0.2)
+    free = np.argwhere(~grid.blocked)[:, ::-1]
+    near = free[np.argmin(np.abs(free - [4, 4]).sum(axis=1))][None]
+    far = free[np.argmin(np.abs(free - [35, 35]).sum(axis=1))][None]
+    table = EvasionRisk(world, grid, moves, forecast, 0.2, 3).groups[0][0]
+    expect_near = table.move_risk(near, near + 1)
+    near_tiles = dict(table.tiles_)
+    expect_far = table.move_risk(far, far - 1)
+    assert not set(near_tiles) & (set(table.tiles_) - set(near_tiles)), "the two queries share no tile"
+    one = sum(t.nbytes for t in near_tiles.values())
+    monkeypatch.setattr(walker, "MAX_BYTES", int(one * 1.5))
+    fresh = EvasionRisk(world, grid, moves, forecast, 0.2, 3).groups[0][0]
+    np.testing.assert_array_equal(fresh.move_risk(far, far - 1), expect_far)
+    np.testing.assert_array_equal(fresh.move_risk(near, near + 1), expect_near)
+    kept = dict(fresh.tiles_)
+    for _ in range(3):
+        np.testing.assert_array_equal(fresh.move_risk(near, near + 1), expect_near)
+        assert fresh.bytes_ <= walker.MAX_BYTES
+        assert all(fresh.tiles_[key] is kept[key] for key in near_tiles)      # never recomputed
+    assert len(fresh.tiles_) > len(near_tiles)          # some of the far tiles still fit
+    np.testing.assert_array_equal(fresh.move_risk(far, far - 1), expect_far)
+
+
 def test_only_walkers_count_and_far_ones_do_not() -> None:
     """Bouncers are not walkers (no table); a walker more than EVASION_RADIUS cells away adds no
     risk; moves the static map forbids score 1."""

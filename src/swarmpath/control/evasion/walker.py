@@ -33,6 +33,7 @@ combined as independent (1 - prod(1 - risk)).
 """
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,7 +50,8 @@ IntArray = NDArray[np.int64]
 EVASION_RADIUS = 5
 #: Side of the square tiles the value is computed and kept in.
 TILE = 8
-#: Memory kept for computed tiles before they are dropped and computed again when needed.
+#: Memory kept for computed tiles: beyond it the least recently used tiles are dropped (and
+#: computed again if a later query needs them).
 MAX_BYTES = 256 * 2 ** 20
 
 
@@ -130,15 +132,16 @@ class WalkerEvasion:
         self.moves_[:h, :w] = moves
         self.chances_ = np.zeros((self.ny * T + 2 * R, self.nx * T + 2 * R, 9), np.float32)
         self.chances_[R:R + h, R:R + w] = model.chances
-        self.tiles_: list[dict[tuple[int, int], NDArray[np.float32]]] = [{} for _ in range(self.horizon)]
+        #: computed tiles by (layer, tx, ty), least recently used first
+        self.tiles_: OrderedDict[tuple[int, int, int], NDArray[np.float32]] = OrderedDict()
         self.bytes_ = 0
 
     # ------------------------------------------------------------------ tiles
     def _tile(self, k: int, tx: int, ty: int) -> NDArray[np.float32]:
         """Layer k (0 <= k < horizon) on tile (tx, ty): float32 (TILE, TILE, K, K)."""
-        memo = self.tiles_[k]
-        out = memo.get((tx, ty))
+        out = self.tiles_.get((k, tx, ty))
         if out is not None:
+            self.tiles_.move_to_end((k, tx, ty))
             return out
         T, K, R = TILE, self.K, self.R
         out = np.zeros((T, T, K, K), np.float32)
@@ -158,9 +161,16 @@ class WalkerEvasion:
             moves = np.ascontiguousarray(self.moves_[ty * T:(ty + 1) * T, tx * T:(tx + 1) * T])
             chances = np.ascontiguousarray(self.chances_[ty * T:ty * T + T + 2 * R, tx * T:tx * T + T + 2 * R])
             _evasion.layer(T, R, prev, moves, chances, self.model.hit, self.model.forbid, out)
-        memo[(tx, ty)] = out
+        self.tiles_[(k, tx, ty)] = out
         self.bytes_ += out.nbytes
         return out
+
+    def _evict(self) -> None:
+        """Drop the least recently used tiles until the memory kept is within MAX_BYTES (called
+        before each query: the tiles the robots near walkers use step after step stay)."""
+        while self.bytes_ > MAX_BYTES and self.tiles_:
+            _, tile = self.tiles_.popitem(last=False)
+            self.bytes_ -= tile.nbytes
 
     def values(self, k: int, cells: IntArray) -> NDArray[np.float32]:
         """V_k (module docstring) at grid ``cells`` (n, 2), shape (n, K, K) indexed [oy + R,
@@ -184,9 +194,7 @@ class WalkerEvasion:
         this step's included, when the robot plays best afterwards; shape (p, 9). A move the
         static map forbids, or into or through the walker where it stands, scores 1; a walker
         farther than ``radius`` cells scores 0 for every allowed move."""
-        if self.bytes_ > MAX_BYTES:
-            self.tiles_ = [{} for _ in range(self.horizon)]
-            self.bytes_ = 0
+        self._evict()
         robots = np.asarray(robots, np.int64).reshape(-1, 2)
         walkers = np.asarray(walkers, np.int64).reshape(-1, 2)
         p = len(robots)
