@@ -297,8 +297,13 @@ class CatSwarmController(Controller):
         events = self.monitor_.update(obs.step, remaining, at_goal)
         targets, in_goal, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies, centre_first=True)
         # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)
+        # near a random walker: each move's chance of being caught (used by the ranking and by
+        # a cornered robot's last resort)
+        walker_risk = None
+        if self.evasion_ is not None and self.forecast_ is not None:
+            walker_risk = self.evasion_.move_risk(cells, obs.obstacle_positions)
         valid, in_danger, threatened, safety, warning, tier, cornered = self._obstacle_rules(
-            obs, cells, copies, targets, in_goal, valid)
+            obs, cells, copies, targets, in_goal, valid, walker_risk)
         # steps 1-5: collision detection, mixture split, trace robots seeing obstacles seek
         seek, trace = self._behaviours(obs, active, remaining)
         tie13 = K.tie_break_eq13(targets, goals)
@@ -321,9 +326,7 @@ class CatSwarmController(Controller):
                           first & reachable, self.keep_present)
         # a robot that must leave ranks the look-ahead's tiers first (all its candidates stay),
         # then, near a random walker, the chance of being caught (in units of 1 / evasion_weight)
-        evade = np.zeros((n, 9))
-        if self.evasion_ is not None and self.forecast_ is not None:
-            evade = np.floor(self.evasion_weight * self.evasion_.move_risk(cells, obs.obstacle_positions))
+        evade = np.zeros((n, 9)) if walker_risk is None else np.floor(self.evasion_weight * walker_risk)
         rank = dense_ranks([tier, evade] + keys, valid)
         order = decision_order(self.priority_, in_danger | threatened, valid.sum(axis=1))
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
@@ -351,9 +354,10 @@ class CatSwarmController(Controller):
         modes[in_danger] = "escape"
         return Decision(new, modes.tolist(), events)
 
-    def _obstacle_rules(self, obs, cells, copies, targets, in_goal_cell, valid):
+    def _obstacle_rules(self, obs, cells, copies, targets, in_goal_cell, valid, walker_risk=None):
         """Step 6.3 for moving obstacles plus our look-ahead, for the robots an obstacle can
-        reach (windows of :func:`~swarmpath.control.hazards.hazard_windows`). Returns (valid
+        reach (windows of :func:`~swarmpath.control.hazards.hazard_windows`); ``walker_risk``
+        (n, 9): the walker-evasion risk of every move, or None without walkers. Returns (valid
         (n, 9), in danger (n,), threatened (n,), safety (n, 9) or None, warning (n, 9) or
         None, tier (n, 9): the look-ahead's rank of each candidate times TIER_SPAN plus
         :func:`~swarmpath.control.hazards.cornered_penalty`, 0 the most cautious; for a
@@ -407,13 +411,13 @@ class CatSwarmController(Controller):
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
         if len(stuck):
-            walker_risk = walkers = None
-            if self.evasion_ is not None:
+            stuck_risk = walkers = None
+            if walker_risk is not None:
                 walkers = self.evasion_.modelled(obs.obstacle_positions)
-                walker_risk = self.evasion_.move_risk(cells[r[stuck]], obs.obstacle_positions)
+                stuck_risk = walker_risk[r[stuck]]
             v[stuck], cost = last_resort(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[stuck]],
                                          targets[r[stuck]], dest[stuck], valid[r[stuck]],
-                                         ways_clear(hz, stuck, dest[stuck]), walker_risk, walkers)
+                                         ways_clear(hz, stuck, dest[stuck]), stuck_risk, walkers)
             cornered[r[stuck]] = True
         # the tier first; a robot the obstacles close in on then takes the cell with most ways on
         tier[r] = rank * TIER_SPAN + cornered_penalty(v, rank, ways)

@@ -304,9 +304,11 @@ class PIBTController(Controller):
                             base[k], dest[k], depth, fallback=urgent[rows[k]])
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
                 ranks[rows] = rank
+            walker_risk = None
             if self.evasion_ is not None:
                 # within a tier: the move least likely to be caught by a random walker
-                dist[rows] += self.evasion_weight * self.evasion_.move_risk(cells[rows], obs.obstacle_positions)
+                walker_risk = self.evasion_.move_risk(cells[rows], obs.obstacle_positions)
+                dist[rows] += self.evasion_weight * walker_risk
             if self.leave_early:
                 # prefer the candidates that stay clear of every obstacle longest (up to leave_early steps;
                 # one step for robots within `hover` cells of their goals, which wait beside it)
@@ -325,13 +327,14 @@ class PIBTController(Controller):
                 cornered[stuck] = True
                 targets, _ = self._targets(pos, cells, stuck)
                 dest = cells[stuck, None, :] + GRID_MOVES[None]
-                ways = ways_clear(hz, np.searchsorted(hz.rows, stuck), dest)
-                walker_risk = walkers = None
-                if self.evasion_ is not None:
+                at = np.searchsorted(hz.rows, stuck)
+                ways = ways_clear(hz, at, dest)
+                stuck_risk = walkers = None
+                if walker_risk is not None:
                     walkers = self.evasion_.modelled(obs.obstacle_positions)
-                    walker_risk = self.evasion_.move_risk(cells[stuck], obs.obstacle_positions)
+                    stuck_risk = walker_risk[at]
                 ok, cost = last_resort(self.forecast_, obs.obstacle_positions, obs.obstacle_previous, pos[stuck],
-                                       targets, dest, feasible[stuck], ways, walker_risk, walkers)
+                                       targets, dest, feasible[stuck], ways, stuck_risk, walkers)
                 allowed[stuck] = ok
                 dist[stuck] = np.where(ok, np.nan_to_num(goal_dist[stuck]) + LAST_RESORT_WEIGHT * cost, np.nan)
                 ranks[stuck] = 0
