@@ -51,8 +51,10 @@ EVASION_RADIUS = 5
 #: Side of the square tiles the value is computed and kept in.
 TILE = 8
 #: Memory kept for computed tiles: beyond it the least recently used tiles are dropped (and
-#: computed again if a later query needs them).
-MAX_BYTES = 256 * 2 ** 20
+#: computed again if a later query needs them). The whole 8-step table of a 512 x 512 map
+#: (about 970 MiB) fits; with 256 MiB, 1,000 robots near 200 walkers spread over such a map
+#: needed more tiles every step than the cap held and a step took 3.6 s instead of 0.05 s.
+MAX_BYTES = 2 ** 30
 
 
 @dataclass(frozen=True)
