@@ -21,8 +21,10 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from swarmpath.control.base import Decision
+from swarmpath.control.cornered import move_weights
+from swarmpath.control.hazards import safe_tier
 from swarmpath.control.observation import Observation
-from swarmpath.world.move_rules import NO_CONFLICT, footprint_hits, move_conflicts
+from swarmpath.world.move_rules import GRID_MOVES, NO_CONFLICT, footprint_hits, move_conflicts
 from swarmpath.world.world import World
 
 FloatArray = NDArray[np.float64]
@@ -117,10 +119,6 @@ def gathering_positions(world: World, obs: Observation, forecast, grid, moves: N
     next step, so a gathering step that does not lead to the finish costs no contact; the
     controller then carries on from there.
     """
-    from swarmpath.control.cornered import move_weights
-    from swarmpath.control.hazards import safe_tier
-    from swarmpath.world.move_rules import GRID_MOVES
-
     pos = obs.positions
     goals = world.goals
     n = len(pos)
