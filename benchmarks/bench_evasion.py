@@ -7,8 +7,9 @@ Run on demand (not a test):  nice python benchmarks/bench_evasion.py [--size 512
 World: size x size, 20 % of the cells blocked at random; `walkers` 1 x 1 random walkers on free
 cells; each robot within 3 cells (Chebyshev) of a walker picked at random, so every robot is
 queried every step and the queries cover the whole map. Each step the walkers and the robots
-take a random step and the controllers' query (``EvasionRisk.move_risk``, 8 steps ahead) runs
-for every robot. Printed: the first step (the tiles computed for the first time), the median and
+move by a random offset of -1, 0 or 1 cells on each axis (blocked cells are not avoided: only
+the cost of the queries is measured, not a run) and the controllers' query
+(``EvasionRisk.move_risk``, 8 steps ahead) runs for every robot. Printed: the first step (the tiles computed for the first time), the median and
 largest later step, and the memory the tiles hold. ``--cap-mib`` sets the memory cap
 (``swarmpath.control.evasion.walker.MAX_BYTES``): below the tiles a step needs, tiles are dropped
 and computed again every step.
