@@ -3,12 +3,15 @@ whole-grid cell sets, and the tiers computed on them are the whole-grid backward
 a controller's per-step cost follows the robots near obstacles, not the map."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from swarmpath.control import hazards as H
 from swarmpath.control.cat_swarm import kernels as K
 from swarmpath.control.pibt.core import static_moves
+from swarmpath.sim import Simulator
 from swarmpath.world import Circle, Rect, RectBounds, Robot, StaticMap, World
 from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.moving import Bounce, Bounce8, MovingObstacle, RandomWalk, Redraw, TurnEvery
@@ -224,7 +227,7 @@ def test_forecasts_hold_every_simulated_future():
     world, _, _, rng = world_with_obstacles(3, size=20)
     obs = [o for o in world.moving_obstacles if o.motion.forecast != "teleport"]   # redraw jumps anywhere
     obs += [MovingObstacle(f"w{k}", Rect((-0.5, -0.5), (0.5, 0.5)), o.start, (0.8, 0.0), m)
-            for k, (o, m) in enumerate(zip(obs[:3], (Bounce8(), RandomWalk(), TurnEvery(2))))]
+            for k, (o, m) in enumerate(zip(obs[:4], (Bounce8(), RandomWalk(), TurnEvery(2), TurnEvery(7))))]
     world = World(world.bounds, static_map=world.static_map, moving_obstacles=tuple(obs), robots=world.robots,
                   name="all")
     fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)
@@ -235,13 +238,20 @@ def test_forecasts_hold_every_simulated_future():
         path.append(state.positions)
     path = np.array(path)
     depth = 4
+    tighter = 0
     for t in range(1, len(path) - depth):
+        loose = fc.coverage(path[t], path[t - 1], depth)
+        fc.at_step(t - 1)   # path[t]: the obstacles after their move of step t - 1
         coverage = fc.coverage(path[t], path[t - 1], depth)
+        tighter += int(sum(c.sum() for c in loose) > sum(c.sum() for c in coverage))
+        assert all(not (c & ~lc).any() for c, lc in zip(coverage, loose))
         for k in range(1, depth + 1):
             a, b = path[t + k - 1], path[t + k]
             swept = H.paint(coverage[0].shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo,
                                                                  np.maximum(a, b) + fc.keep_hi, 1.0))
             assert not (swept & ~coverage[k - 1]).any(), (t, k)
+        fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)   # no step known: any-heading
+    assert tighter > len(path) // 2   # turn-every is forecast as a bouncer between its turns
 
 
 def test_dead_end_cells_are_the_cells_peeled_with_one_way_on():
@@ -324,3 +334,56 @@ def test_pocket_cells_are_the_cells_one_obstacle_shuts_in():
         blocked = rng.random((14, 17)) < density
         found = H.pocket_cells(static_moves(blocked, 8), reach=3, batch=37)
         assert {(int(x), int(y)) for y, x in zip(*np.nonzero(found))} == _pockets_by_search(blocked, 3), density
+
+
+def _walled_in_world() -> World:
+    """A bounce obstacle heading north in a 1-cell gap of a vertical wall (cells above and
+    below it blocked): it can never move. A robot east of the wall has its goal in the cell
+    east of the obstacle."""
+    blocked = np.zeros((7, 9), bool)
+    blocked[:, 4] = True
+    blocked[3, 4] = False
+    ob = MovingObstacle("stuck", Rect((-0.5, -0.5), (0.5, 0.5)), (4.5, 3.5), (0.0, 1.0), Bounce())
+    robots = (Robot("a", (7.5, 0.5), (5.5, 3.5), 0.0, S2),)
+    return World(RectBounds(9, 7), static_map=StaticMap(blocked, 1.0), moving_obstacles=(ob,), robots=robots,
+                 name="walled-in")
+
+
+def test_a_bouncer_that_stood_still_is_forecast_to_stay():
+    """Standing still means every flip of its heading was blocked, and a bounce obstacle tries the
+    same four each step: D_1 ... D_4 are its own cell (they were every cell within its speed)."""
+    from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
+
+    world = _walled_in_world()
+    state = initial_obstacle_state(world)
+    rng = np.random.default_rng(0)
+    for _ in range(6):
+        nxt = advance_obstacles(world, state, rng)
+        assert np.array_equal(nxt.positions, state.positions)
+        state = nxt
+    fc = H.ObstacleForecast(world, world.grid())
+    p = state.positions
+    for cover in fc.coverage(p, p, 4):
+        assert np.argwhere(cover).tolist() == [[3, 4]]
+    # turn-every stands as a bouncer does until its next turn (period 4, seen after step 5: the
+    # moves of steps 6 and 7 are steady, that of step 8 may head anywhere), then may leave the gap
+    turner = World(world.bounds, static_map=world.static_map, robots=world.robots, name="walled-in-turner",
+                   moving_obstacles=(dataclasses.replace(world.moving_obstacles[0], motion=TurnEvery(4)),))
+    fc = H.ObstacleForecast(turner, turner.grid())
+    fc.at_step(5)
+    cover = fc.coverage(p, p, 4)
+    assert [np.argwhere(c).tolist() for c in cover[:2]] == [[[3, 4]], [[3, 4]]]
+    assert cover[2].sum() > 1 and cover[2][3, 3] and cover[2][3, 5]
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_a_robot_reaches_its_goal_beside_a_walled_in_bouncer(controller):
+    """The goal beside the walled-in bouncer was always in its forecast reach: the robot waited
+    beside it for ever. Now it arrives, and the checker finds no contact."""
+    from swarmpath.registry import CONTROLLERS
+    from swarmpath.testing import validate_trajectory
+
+    world = _walled_in_world()
+    traj = Simulator(world, CONTROLLERS.get(controller)(), None, seed=0, max_steps=100).run()
+    assert validate_trajectory(world, traj) == []
+    assert traj.status == "all_reached"

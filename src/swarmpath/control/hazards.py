@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.world.motions import FORECASTS
+from swarmpath.world.motions import FORECASTS, Motion
 from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle
@@ -110,7 +110,8 @@ def paint_windows(ranges: IntArray, origins: IntArray, size: int) -> BoolArray:
 
 class ObstacleForecast:
     """Predicts the moving obstacles of one world, step by step (created in a controller's
-    ``reset``; holds no run state beyond a memo of exact static checks)."""
+    ``reset``; holds no run state beyond a memo of exact static checks and the step number
+    given to :meth:`at_step`)."""
 
     def __init__(self, world, grid, robot_radius: float = 0.0):
         self.world = world
@@ -125,6 +126,11 @@ class ObstacleForecast:
         self.keep_lo = self.lo - robot_radius
         self.keep_hi = self.hi + robot_radius
         self.code = np.array([motion_code(o) for o in obs], np.int64)
+        self.base_code = self.code.copy()
+        # any-heading models that move as bounce does on known steps (turn-every between turns)
+        self.steady_models = np.array([j for j, o in enumerate(obs) if self.code[j] == ANY_HEADING
+                                       and type(o.motion).steady_steps is not Motion.steady_steps], np.int64)
+        self.steady = np.full(self.m, np.iinfo(np.int64).max)   # steps the code holds (at_step)
         # one step of travel; for models that may head anywhere, their declared worst case
         self.speed = np.array([o.max_step(world.dt, world.resolution) if c == ANY_HEADING else o.speed * world.dt
                                for o, c in zip(obs, self.code)], float)
@@ -145,6 +151,17 @@ class ObstacleForecast:
         keys = [tuple(np.r_[lo, hi].round(12)) for lo, hi in boxes]
         first: dict[tuple, int] = {}
         self.shape_of = np.array([first.setdefault(k, j) for j, k in enumerate(keys)], np.int64)
+
+    def at_step(self, step: int) -> None:
+        """The obstacles have made their move of step ``step``: an any-heading model that
+        declares steady steps (:meth:`~swarmpath.world.motions.base.Motion.steady_steps`,
+        ``turn-every`` between its turns) is forecast as ``bounce`` while its next move is a
+        steady one, for as many steps as it stays steady (the look-ahead grows its boxes by its
+        reach from there). Without a call, such models count as any-heading on every step."""
+        for j in self.steady_models.tolist():
+            ahead = int(self.world.moving_obstacles[j].motion.steady_steps(int(step)))
+            self.code[j] = BOUNCE if ahead >= 1 else ANY_HEADING
+            self.steady[j] = ahead if ahead >= 1 else np.iinfo(np.int64).max
 
     # ------------------------------------------------------------------ static fit
     def fits(self, which: IntArray, positions: FloatArray) -> BoolArray:
@@ -229,7 +246,9 @@ class ObstacleForecast:
         possible[turn8, 2:] = ok[turn8, 2:]
         turn3 = bo & moving & ~ahead
         possible[turn3, 2:5] = ok[turn3, 2:5]
-        vague = (code == ANY_HEADING) | (bo & ~moving)
+        # a bouncer that did not move last step had every sign of its heading blocked (the
+        # reflections it tries are the same four each step): it stands for good
+        vague = code == ANY_HEADING
         extra[vague] = self.speed[vague]
         return cand, possible, extra
 
@@ -264,16 +283,18 @@ class ObstacleForecast:
         p = np.asarray(positions, float).reshape(m, 2)
         d = p - np.asarray(previous, float).reshape(m, 2)
         moving = np.hypot(d[:, 0], d[:, 1]) > _MOVING
-        straight = np.isin(self.code, (BOUNCE, BOUNCE8)) & moving
+        # a bouncer that stood still stands on (next_positions): straight on at zero speed
+        straight = (np.isin(self.code, (BOUNCE, BOUNCE8)) & moving) | ((self.code == BOUNCE) & ~moving)
         ahead = p[:, None, :] + d[:, None, :] * np.arange(1, steps + 1)[None, :, None]
         ok = self.fits(np.repeat(np.arange(m), steps), ahead.reshape(-1, 2)).reshape(m, steps)
         free_all = np.where(ok.all(axis=1), steps, np.argmin(ok, axis=1))
-        free_all = np.where(straight, free_all, 0)
+        # a model steady for s more steps goes straight at most s steps, then anywhere
+        free_all = np.where(straight, np.minimum(free_all, self.steady), 0)
         reach = np.where(self.code == RANDOM_WALK, self.walk_step, np.maximum(self.speed, np.hypot(*d.T)))
         reach = np.where(self.code == REDRAW, 0.0, reach)
         # a moving bounce or bounce8 obstacle turns only where it is blocked: its runs are
         # listed exactly (few branches); the others are bounded by boxes
-        runs, exact = self._bounce_runs(p, d, straight & ~ok.all(axis=1), steps)
+        runs, exact = self._bounce_runs(p, d, straight & ~ok.all(axis=1) & (self.steady >= steps), steps)
         for k in range(2, steps + 1):
             free = np.minimum(free_all, k)
             sure = free >= k

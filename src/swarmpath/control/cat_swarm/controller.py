@@ -279,6 +279,8 @@ class CatSwarmController(Controller):
         n = obs.n_robots
         if n == 0:
             return Decision(obs.positions.copy(), [])
+        if self.forecast_ is not None:
+            self.forecast_.at_step(obs.step)   # turn-every: straight until its next turn
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)
             if done is None and self.gather:

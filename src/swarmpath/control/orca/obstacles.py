@@ -84,7 +84,7 @@ def _worst_case_next(ob, world, now: FloatArray, prev: FloatArray, step: int, dt
     speed = float(ob.speed)
     if speed == 0.0:
         return now.copy(), 0.0
-    if kind == "turn-every" and (step + 1) % max(1, int(ob.motion.period)) == 0:
+    if kind == "turn-every" and ob.motion.steady_steps(step) == 0:   # step + 1 turns
         return now.copy(), reach
     moved = now - prev
     one = speed * dt

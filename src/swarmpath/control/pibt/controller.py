@@ -244,6 +244,8 @@ class PIBTController(Controller):
     def act(self, obs: Observation) -> Decision:
         pos = obs.positions
         n = len(pos)
+        if self.forecast_ is not None:
+            self.forecast_.at_step(obs.step)   # turn-every: straight until its next turn
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)
             if done is None and self.gather:

@@ -15,7 +15,8 @@ files). It says
   (straight on, reflected components when blocked), ``bounce8`` (straight on, any of 8
   compass directions when blocked), ``random-walk`` (any of 8 grid steps), ``teleport``
   (reappears anywhere), or ``any-heading`` (anywhere within :meth:`max_step`; the safe
-  default for a new model);
+  default for a new model), with the steps on which an any-heading model surely moves as
+  ``bounce`` does (:meth:`Motion.steady_steps`: ``turn-every`` between its turns);
 - its scenario-file parameters (``parameters``: name -> (type, pydantic Field)), how it is
   built from them (:meth:`from_parameters`), written back (:meth:`to_dict`) and checked
   against a world (:meth:`check`), and an instance for the conformance checks
@@ -92,6 +93,14 @@ class Motion(abc.ABC):
         """The longest distance the obstacle's position can move in one step (world units);
         ``inf`` for a model that teleports."""
         return math.inf if self.teleports else ob.speed * dt
+
+    def steady_steps(self, step: int) -> int:
+        """For a model of the ``any-heading`` forecast class: how many of the steps after
+        step ``step`` (the steps ``step + 1``, ``step + 2``, ...) it surely moves as ``bounce``
+        does (straight on at its velocity, reflected where blocked) before it may head
+        anywhere. Grid controllers then forecast it as tightly as a bouncer until then. 0
+        (default): it may turn on any step."""
+        return 0
 
     @classmethod
     def example(cls) -> "Motion":

@@ -33,5 +33,11 @@ class TurnEvery(Motion):
         p, v = straight_step(ctx.terrain, ob, position, velocity, ctx.terrain.dt, ctx.rng, eight=False)
         return p, v, counter
 
+    def steady_steps(self, step: int) -> int:
+        """Straight on (reflected where blocked, as ``bounce``) on every step up to the next
+        multiple of ``period``, where it draws a new heading."""
+        period = max(1, self.period)
+        return (step // period + 1) * period - step - 1
+
     def to_dict(self) -> dict:
         return {"motion": self.kind, "period": self.period}
