@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from swarmpath.control.cat_swarm import CatSwarmController
-from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor, progress_update
+from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
+from swarmpath.control.progress import progress_update
 from swarmpath.metrics.summary import run_summary
 from swarmpath.planning import plan
 from swarmpath.sim import Simulator

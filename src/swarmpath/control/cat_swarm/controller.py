@@ -44,6 +44,7 @@ from swarmpath.control.cat_swarm.cells import PathTracker, grid_cells
 from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
+from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
 from swarmpath.control.finish import finishing_step, gathering_step
 from swarmpath.control.hazards import (
@@ -129,6 +130,10 @@ class CatSwarmController(Controller):
         gather : with ``finish_together``, a gathering step sets up the finish when every
             robot is within two cells of its goal (True; see ``pibt`` and
             :func:`~swarmpath.control.finish.gathering_positions`).
+        detour_after : with moving obstacles, a robot without progress for this many steps
+            ranks its copies by the way round the cells where obstacles have lingered lately
+            instead of eq. 12's static length (8; 0: off; see ``pibt`` and
+            :mod:`swarmpath.control.detour`).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -138,7 +143,9 @@ class CatSwarmController(Controller):
                  hazard_horizon: int = 4, hazard_weight: float = 2.0, hazard_decay: float = 0.7, lead: bool = True,
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
-                 hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True):
+                 hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True,
+                 detour_after: int = DETOUR_AFTER):
+        self.detour_after = detour_after
         self.evasion_horizon = evasion_horizon
         self.evasion_weight = evasion_weight
         self.gather = gather
@@ -185,6 +192,9 @@ class CatSwarmController(Controller):
         if (self.patience is not None and self.patience < 1) or self.report_after < 1:
             raise ConfigError("cat-swarm: patience (or None) and report_after must be >= 1")
         check_evasion(self.evasion_horizon, self.evasion_weight, "cat-swarm")
+        if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
+                or self.detour_after < 0:
+            raise ConfigError(f"cat-swarm: detour_after must be a whole number >= 0, got {self.detour_after!r}")
 
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self._check_parameters()
@@ -216,6 +226,7 @@ class CatSwarmController(Controller):
             self.pad_ = self.window_ + 2 + DEAD_END_EXTRA
             self.dead_end_ = trap_cells(K.move_table(blocked))
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
+            self.lingering_ = Lingering.start(blocked.shape)
         self.moves_ = K.move_table(blocked)
         self.evasion_ = EvasionRisk(world, self.grid_, self.moves_, self.forecast_, radius,
                                     self.evasion_horizon) if self.forecast_ is not None and self.evasion_horizon else None
@@ -281,6 +292,7 @@ class CatSwarmController(Controller):
             return Decision(obs.positions.copy(), [])
         if self.forecast_ is not None:
             self.forecast_.at_step(obs.step)   # turn-every: straight until its next turn
+            self.lingering_.update(self.forecast_, obs.obstacle_positions)
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)
             if done is None and self.gather:
@@ -297,6 +309,12 @@ class CatSwarmController(Controller):
         fitness = self._fitness(cells, in_goal_cell)
         remaining = self.paths_.remaining(cells, fitness[:, K.STAY])
         events = self.monitor_.update(obs.step, remaining, at_goal)
+        if self.detour_after and self.forecast_ is not None:
+            # a robot an obstacle has held back for a while goes round it (detour.py)
+            slow = np.flatnonzero((self.monitor_.since >= self.detour_after) & ~in_goal_cell & self.goal_ok_)
+            if len(slow):
+                fitness[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], self.moves_,
+                                               fitness[slow], lambda r, c: self.tables_.distances(self.handles_[slow[r]], c))
         targets, in_goal, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies, centre_first=True)
         # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)
         # near a random walker: each move's chance of being caught (used by the ranking and by

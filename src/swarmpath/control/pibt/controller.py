@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
+from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
 from swarmpath.control.finish import finishing_step, gathering_step
 from swarmpath.control.grid_robots import check_grid_robots
@@ -48,6 +49,7 @@ from swarmpath.control.pibt.core import (
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
+from swarmpath.control.progress import progress_update
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
@@ -134,6 +136,12 @@ class PIBTController(Controller):
         to cells one move from their goals in one step, if that is safe and makes the
         finishing step likely next step (:func:`~swarmpath.control.finish.gathering_positions`).
         True (default).
+    detour_after : int
+        With moving obstacles: a robot that has not come closer to its goal for this many
+        steps ranks its moves by the way round the cells where obstacles have lingered lately
+        (:mod:`swarmpath.control.detour`) instead of the static distance: an obstacle
+        shuttling on its shortest way no longer holds it for good.
+        8 (default); 0: off.
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -141,7 +149,8 @@ class PIBTController(Controller):
     def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 2,
                  landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0,
                  finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
-                 evasion_weight: float = 1e4, gather: bool = True):
+                 evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER):
+        self.detour_after = detour_after
         self.evasion_horizon = evasion_horizon
         self.evasion_weight = evasion_weight
         self.gather = gather
@@ -167,6 +176,9 @@ class PIBTController(Controller):
                                        or self.hover < 0):
             raise ConfigError(f"pibt: hover must be a whole number >= 0 or None, got {self.hover!r}")
         check_evasion(self.evasion_horizon, self.evasion_weight, "pibt")
+        if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
+                or self.detour_after < 0:
+            raise ConfigError(f"pibt: detour_after must be a whole number >= 0, got {self.detour_after!r}")
         n = world.n_robots
         res = world.resolution
         radius = float(world.radii.max(initial=0.0))
@@ -188,12 +200,15 @@ class PIBTController(Controller):
         self.base_ = rng.random(n)                        # fractional parts of the priorities
         self.priority_ = self.base_.copy()
         self.pushes_ = np.zeros(n, np.int64)              # times each robot was pushed and moved
+        self.best_ = np.full(n, np.inf)                   # each robot's least distance to its goal so far
+        self.since_ = np.zeros(n, np.int64)               # steps since it last came closer
         self.rng_ = rng
         self.forecast_ = ObstacleForecast(world, grid, radius) if world.moving_obstacles else None
         if self.forecast_ is not None:   # the static grid padded for the look-ahead windows
             self.pad_ = self.lookahead + 2 + DEAD_END_EXTRA
             self.dead_end_ = trap_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
+            self.lingering_ = Lingering.start(grid.blocked.shape)
         self.evasion_ = EvasionRisk(world, grid, self.moves_, self.forecast_, radius, self.evasion_horizon) \
             if self.forecast_ is not None and self.evasion_horizon else None
 
@@ -246,6 +261,7 @@ class PIBTController(Controller):
         n = len(pos)
         if self.forecast_ is not None:
             self.forecast_.at_step(obs.step)   # turn-every: straight until its next turn
+            self.lingering_.update(self.forecast_, obs.obstacle_positions)
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)
             if done is None and self.gather:
@@ -255,6 +271,7 @@ class PIBTController(Controller):
         cells = self._cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
         dist = self._distances(cells, in_goal_cell)
+        self.best_, self.since_ = progress_update(self.best_, self.since_, dist[:, STAY], obs.at_goal)
         # most robots stand on a cell centre away from their goal: every move ends on a centre
         # within reach (diagonals need reach sqrt 2); the others are worked out exactly
         centre = self.grid_.centers(cells)
@@ -277,6 +294,12 @@ class PIBTController(Controller):
                                 connectivity=self.connectivity)
         if hz is not None:
             rows = hz.rows
+            if self.detour_after:
+                # a robot an obstacle has held back for a while goes round it (detour.py)
+                slow = rows[(self.since_[rows] >= self.detour_after) & ~in_goal_cell[rows] & self.goal_ok_[rows]]
+                if len(slow):
+                    dist[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], self.moves_,
+                                                dist[slow], lambda r, c: self.tables_.distances(self.handles_[slow[r]], c))
             dest = cells[rows, None, :] + GRID_MOVES[None]
             allowed[rows] &= ~hz.at(hz.covered[0], dest)
             urgent[rows] = hz.at(hz.covered[0], cells[rows])
