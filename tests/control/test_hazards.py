@@ -387,3 +387,41 @@ def test_a_robot_reaches_its_goal_beside_a_walled_in_bouncer(controller):
     traj = Simulator(world, CONTROLLERS.get(controller)(), None, seed=0, max_steps=100).run()
     assert validate_trajectory(world, traj) == []
     assert traj.status == "all_reached"
+
+
+def test_waypoint_obstacles_are_forecast_along_their_route():
+    """A waypoints obstacle (speed 0.8: it turns at corners mid-step) is replayed from its start:
+    every sweep it makes k steps later lies in D_k, and D_k is then the sweep itself, far fewer
+    cells than the reach boxes it had before. Seen where its replay says it is not (a run
+    started elsewhere), it stays any-heading."""
+    from swarmpath.world.moving import Waypoints, advance_obstacles, initial_obstacle_state
+
+    blocked = np.zeros((12, 12), bool)
+    blocked[5:7, 5:7] = True
+    route = Waypoints(((9.5, 2.5), (9.5, 9.5), (2.5, 9.5), (2.5, 2.5)), True)
+    ob = MovingObstacle("w", Rect((-0.4, -0.4), (0.4, 0.4)), (2.5, 2.5), (0.8, 0.0), route)
+    world = World(RectBounds(12, 12), static_map=StaticMap(blocked), moving_obstacles=(ob,),
+                  robots=(Robot("a", (0.5, 0.5), (11.5, 11.5), 0.2, S2),), name="route")
+    state = initial_obstacle_state(world)
+    rng = np.random.default_rng(0)
+    path = [state.positions.copy(), state.positions.copy()]   # path[t]: after the move of step t - 1
+    for _ in range(60):
+        state = advance_obstacles(world, state, rng)
+        path.append(state.positions.copy())
+    path = np.array(path)
+    depth = 5
+    for t in range(2, len(path) - depth):
+        fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)
+        loose = fc.coverage(path[t], path[t - 1], depth)
+        fc.at_step(t - 1, path[t])
+        coverage = fc.coverage(path[t], path[t - 1], depth)
+        for k in range(1, depth + 1):
+            a, b = path[t + k - 1], path[t + k]
+            swept = H.paint(coverage[0].shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo,
+                                                                 np.maximum(a, b) + fc.keep_hi, 1.0))
+            assert not (swept & ~coverage[k - 1]).any(), (t, k)
+            assert np.array_equal(swept, coverage[k - 1]), (t, k)
+        assert sum(c.sum() for c in coverage) < sum(c.sum() for c in loose) / 2
+        elsewhere = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)
+        elsewhere.at_step(t - 1, path[t] + 0.5)
+        assert not elsewhere.script

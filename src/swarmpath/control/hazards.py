@@ -38,6 +38,8 @@ BOUNCE_FLIPS = np.array([[-1.0, 1.0], [1.0, -1.0], [-1.0, -1.0]])
 BOUNCE, BOUNCE8, RANDOM_WALK, REDRAW, ANY_HEADING = (FORECASTS.index(name) for name in FORECASTS)
 _MOVING = 1e-9
 N_SLOTS = 10  # 0: stay, 1: straight on, 2-9: the 8 directions (or the 3 bounce reflections)
+#: Steps ahead a scripted obstacle's positions are listed (the deepest look-ahead asks 7).
+SCRIPT_STEPS = 12
 
 
 def footprint_box(ob: MovingObstacle) -> tuple[FloatArray, FloatArray]:
@@ -131,6 +133,11 @@ class ObstacleForecast:
         self.steady_models = np.array([j for j, o in enumerate(obs) if self.code[j] == ANY_HEADING
                                        and type(o.motion).steady_steps is not Motion.steady_steps], np.int64)
         self.steady = np.full(self.m, np.iinfo(np.int64).max)   # steps the code holds (at_step)
+        # scripted models (waypoints): replayed from their start, their future known exactly
+        self.scripted = np.array([j for j, o in enumerate(obs) if self.code[j] == ANY_HEADING
+                                  and getattr(o.motion, "scripted", False)], np.int64)
+        self._replay: dict[int, tuple[int, FloatArray, FloatArray, int]] = {}   # j: (step, p, v, counter)
+        self.script: dict[int, FloatArray] = {}     # j: positions now and SCRIPT_STEPS steps ahead
         # one step of travel; for models that may head anywhere, their declared worst case
         self.speed = np.array([o.max_step(world.dt, world.resolution) if c == ANY_HEADING else o.speed * world.dt
                                for o, c in zip(obs, self.code)], float)
@@ -152,16 +159,48 @@ class ObstacleForecast:
         first: dict[tuple, int] = {}
         self.shape_of = np.array([first.setdefault(k, j) for j, k in enumerate(keys)], np.int64)
 
-    def at_step(self, step: int) -> None:
+    def at_step(self, step: int, positions: FloatArray | None = None) -> None:
         """The obstacles have made their move of step ``step``: an any-heading model that
         declares steady steps (:meth:`~swarmpath.world.motions.base.Motion.steady_steps`,
         ``turn-every`` between its turns) is forecast as ``bounce`` while its next move is a
         steady one, for as many steps as it stays steady (the look-ahead grows its boxes by its
-        reach from there). Without a call, such models count as any-heading on every step."""
+        reach from there). A scripted model (``Motion.scripted``: waypoints) seen at
+        ``positions`` where its replay says it is, is forecast along its script, exactly, for
+        ``SCRIPT_STEPS`` steps. Without a call, such models count as any-heading on every step."""
         for j in self.steady_models.tolist():
             ahead = int(self.world.moving_obstacles[j].motion.steady_steps(int(step)))
             self.code[j] = BOUNCE if ahead >= 1 else ANY_HEADING
             self.steady[j] = ahead if ahead >= 1 else np.iinfo(np.int64).max
+        if positions is not None and len(self.scripted):
+            self._follow_scripts(int(step), np.asarray(positions, float).reshape(self.m, 2))
+
+    def _follow_scripts(self, step: int, positions: FloatArray) -> None:
+        """Replay each scripted obstacle's model from its start up to ``step`` (its state is
+        the model's own, not observed), check it stands where observed, and list its positions
+        for the next ``SCRIPT_STEPS`` steps. An obstacle the replay does not match (a run
+        started elsewhere) stays any-heading."""
+        from swarmpath.world.motions.base import StepContext
+
+        self.script = {}
+        for j in self.scripted.tolist():
+            ob = self.world.moving_obstacles[j]
+            at, p, v, counter = self._replay.get(j, (0, np.asarray(ob.start, float), np.asarray(ob.velocity, float), 0))
+            if at > step:
+                at, p, v, counter = 0, np.asarray(ob.start, float), np.asarray(ob.velocity, float), 0
+            if step - at > 100_000:
+                continue   # a budget on the replay: such an obstacle stays any-heading
+            while at < step:
+                at += 1
+                p, v, counter = ob.motion.advance(ob, p, v, counter, StepContext(self.world, None, at))
+            self._replay[j] = (at, p, v, counter)
+            if not np.allclose(p, positions[j], rtol=0, atol=1e-9):
+                continue
+            future = [p]
+            q, w, c = p, v, counter
+            for k in range(1, SCRIPT_STEPS + 1):
+                q, w, c = ob.motion.advance(ob, q, w, c, StepContext(self.world, None, step + k))
+                future.append(q)
+            self.script[j] = np.asarray(future, float)
 
     # ------------------------------------------------------------------ static fit
     def fits(self, which: IntArray, positions: FloatArray) -> BoolArray:
@@ -250,6 +289,11 @@ class ObstacleForecast:
         # reflections it tries are the same four each step): it stands for good
         vague = code == ANY_HEADING
         extra[vague] = self.speed[vague]
+        for j, future in self.script.items():   # scripted: exactly its next position
+            cand[j, 1] = future[1]
+            possible[j] = False
+            possible[j, 1] = True
+            extra[j] = 0.0
         return cand, possible, extra
 
     def danger(self, positions: FloatArray, previous: FloatArray, *, margin: int = 0) -> BoolArray:
@@ -295,12 +339,17 @@ class ObstacleForecast:
         # a moving bounce or bounce8 obstacle turns only where it is blocked: its runs are
         # listed exactly (few branches); the others are bounded by boxes
         runs, exact = self._bounce_runs(p, d, straight & ~ok.all(axis=1) & (self.steady >= steps), steps)
+        scripted = np.array([j for j in self.script if len(self.script[j]) > steps], np.int64)
         for k in range(2, steps + 1):
             free = np.minimum(free_all, k)
             sure = free >= k
             grow = np.where(sure, 0.0, (k - free) * reach)[:, None]
             a = np.where(sure[:, None], p + (k - 1) * d, p + free[:, None] * d)
             b = np.where(sure[:, None], p + k * d, a)
+            if len(scripted):   # scripted obstacles: the sweep of their k-th step, exactly
+                grow[scripted] = 0.0
+                a[scripted] = [self.script[j][k - 1] for j in scripted.tolist()]
+                b[scripted] = [self.script[j][k] for j in scripted.tolist()]
             lo = np.minimum(a, b) + self.keep_lo - grow
             hi = np.maximum(a, b) + self.keep_hi + grow
             boxes = box_cell_ranges(lo[~exact], hi[~exact], self.resolution, margin)

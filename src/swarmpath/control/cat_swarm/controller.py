@@ -291,7 +291,7 @@ class CatSwarmController(Controller):
         if n == 0:
             return Decision(obs.positions.copy(), [])
         if self.forecast_ is not None:
-            self.forecast_.at_step(obs.step)   # turn-every: straight until its next turn
+            self.forecast_.at_step(obs.step, obs.obstacle_positions)   # turn-every, waypoints
             self.lingering_.update(self.forecast_, obs.obstacle_positions)
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)

@@ -260,7 +260,7 @@ class PIBTController(Controller):
         pos = obs.positions
         n = len(pos)
         if self.forecast_ is not None:
-            self.forecast_.at_step(obs.step)   # turn-every: straight until its next turn
+            self.forecast_.at_step(obs.step, obs.obstacle_positions)   # turn-every, waypoints
             self.lingering_.update(self.forecast_, obs.obstacle_positions)
         if self.finish_together and self.forecast_ is not None:
             done = finishing_step(self.world_, obs)

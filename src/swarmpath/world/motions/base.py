@@ -80,6 +80,10 @@ class Motion(abc.ABC):
 
     kind: ClassVar[str] = ""
     teleports: ClassVar[bool] = False
+    #: The model's moves depend on nothing but its own state (no random draws, no robots), so a
+    #: controller that replays :meth:`advance` from the obstacle's start knows its future
+    #: exactly (``waypoints``); grid controllers then forecast it step by step.
+    scripted: ClassVar[bool] = False
     forecast: ClassVar[str] = "any-heading"
     #: Scenario-file parameters of this model: name -> (annotation, pydantic FieldInfo).
     parameters: ClassVar[Mapping[str, tuple[Any, Any]]] = {}

@@ -25,6 +25,7 @@ class Waypoints(Motion):
     points: tuple[tuple[float, float], ...] = ()
     loop: bool = True
     kind = "waypoints"
+    scripted = True
     parameters = {
         "points": (Optional[list[Vec2]], Field(None, max_length=MAX_WAYPOINTS,
                                                description="waypoints: the points to visit")),
