@@ -68,17 +68,22 @@ def _reference(blocked, cov, goal, origin, size, field):
     return d[:n].reshape(size, size)
 
 
+def _random_case(rng, shape, density, origins, size=9):
+    """A random map, a goal on a free cell, and a window of ``size`` cells at a random corner
+    drawn from ``origins`` (low, high): (blocked, goal (x, y), origin, size)."""
+    blocked = rng.random(shape) < density
+    free = np.argwhere(~blocked)
+    gy, gx = free[rng.integers(len(free))]
+    return blocked, (int(gx), int(gy)), rng.integers(*origins, size=2), size
+
+
 def test_without_obstacles_the_detour_is_the_exact_distance() -> None:
     """Nothing covered: every shortest way either stays in the window or leaves it through a rim
     cell, so d' is the exact distance to the goal on every free window cell (random maps)."""
     rng = np.random.default_rng(3)
     for _ in range(30):
-        blocked = rng.random((20, 24)) < 0.25
-        free = np.argwhere(~blocked)
-        gy, gx = free[rng.integers(len(free))]
-        origin = rng.integers(-3, 14, size=2)
-        size = 9
-        values, cov, field = _window_values(blocked, np.zeros((size, size), bool), (int(gx), int(gy)), origin, size)
+        blocked, (gx, gy), origin, size = _random_case(rng, (20, 24), 0.25, (-3, 14))
+        values, cov, field = _window_values(blocked, np.zeros((size, size), bool), (gx, gy), origin, size)
         goal_in = np.all((np.array([gx, gy]) - origin >= 0) & (np.array([gx, gy]) - origin < size))
         sub = np.full((size, size), np.inf)
         for y in range(size):
@@ -93,14 +98,10 @@ def test_detour_values_match_dijkstra_with_covered_cells() -> None:
     """With random covered cells the window's values equal Dijkstra's on an explicit graph."""
     rng = np.random.default_rng(11)
     for trial in range(30):
-        blocked = rng.random((16, 16)) < 0.2
-        free = np.argwhere(~blocked)
-        gy, gx = free[rng.integers(len(free))]
-        origin = rng.integers(-2, 8, size=2)
-        size = 9
+        blocked, (gx, gy), origin, size = _random_case(rng, (16, 16), 0.2, (-2, 8))
         covered = rng.random((size, size)) < 0.2
-        values, cov, field = _window_values(blocked, covered, (int(gx), int(gy)), origin, size)
-        ref = _reference(blocked, cov, (int(gx), int(gy)), origin, size, field)
+        values, cov, field = _window_values(blocked, covered, (gx, gy), origin, size)
+        ref = _reference(blocked, cov, (gx, gy), origin, size, field)
         ref[cov] = np.inf
         goal = np.array([gx, gy]) - origin
         if np.all((goal >= 0) & (goal < size)) and cov[goal[1], goal[0]]:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.world.motions import FORECASTS, Motion
+from swarmpath.world.motions import FORECASTS, Motion, StepContext
 from swarmpath.world.move_rules import GRID_MOVES
 from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle
@@ -179,8 +179,6 @@ class ObstacleForecast:
         the model's own, not observed), check it stands where observed, and list its positions
         for the next ``SCRIPT_STEPS`` steps. An obstacle the replay does not match (a run
         started elsewhere) stays any-heading."""
-        from swarmpath.world.motions.base import StepContext
-
         self.script = {}
         for j in self.scripted.tolist():
             ob = self.world.moving_obstacles[j]
