@@ -84,11 +84,12 @@ def paint(shape: tuple[int, int], ranges: IntArray) -> BoolArray:
     return out.cumsum(0).cumsum(1)[:h, :w] > 0
 
 
-def paint_windows(ranges: IntArray, origins: IntArray, size: int) -> BoolArray:
+def paint_windows(ranges: IntArray, origins: IntArray, size: int, skip: BoolArray | None = None) -> BoolArray:
     """Boolean windows (r, size, size): window w is True where the union of the cell ranges
-    (k, 4) covers cell ``origins[w] + (dx, dy)`` (``[w, dy, dx]``). Only the ranges that
-    overlap a window are painted into it (a difference array per window), so the cost grows
-    with windows x ranges, not with the grid."""
+    (k, 4) covers cell ``origins[w] + (dx, dy)`` (``[w, dy, dx]``); ``skip`` (r, k) leaves
+    range k out of window w. Only the ranges that overlap a window are painted into it (a
+    difference array per window), so the cost grows with windows x ranges, not with the
+    grid."""
     r = len(origins)
     out = np.zeros((r, size + 1, size + 1), np.int32)
     if len(ranges) and r:
@@ -101,6 +102,8 @@ def paint_windows(ranges: IntArray, origins: IntArray, size: int) -> BoolArray:
             x1 = np.clip(ranges[None, :, 2] - oo[:, None, 0], 0, size)
             y1 = np.clip(ranges[None, :, 3] - oo[:, None, 1], 0, size)
             ok = (x0 < x1) & (y0 < y1)
+            if skip is not None:
+                ok &= ~np.asarray(skip, bool)[s0:s0 + chunk]
             win = np.nonzero(ok)[0] + s0
             x0, y0, x1, y1 = x0[ok], y0[ok], x1[ok], y1[ok]
             np.add.at(out, (win, y0, x0), 1)
@@ -303,22 +306,31 @@ class ObstacleForecast:
         return paint(self.shape, self._danger_ranges(positions, previous, margin))
 
     def _danger_ranges(self, positions: FloatArray, previous: FloatArray, margin: int) -> IntArray:
+        return self._owned_danger(positions, previous, margin)[0]
+
+    def _owned_danger(self, positions: FloatArray, previous: FloatArray, margin: int) -> tuple[IntArray, IntArray]:
         p = np.asarray(positions, float).reshape(self.m, 2)
         cand, possible, extra = self.next_positions(p, previous)
         j, s = np.nonzero(possible)
         q = cand[j, s]
         lo = np.minimum(p[j], q) + self.keep_lo[j] - extra[j, None]
         hi = np.maximum(p[j], q) + self.keep_hi[j] + extra[j, None]
-        return box_cell_ranges(lo, hi, self.resolution, margin)
+        return box_cell_ranges(lo, hi, self.resolution, margin), j
 
     def step_ranges(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
                     ) -> list[IntArray]:
         """The cell ranges (k, 4) whose union is D_k, for k = 1 ... ``steps`` (see
         :meth:`coverage`): what :func:`paint` (the whole grid) or :func:`paint_windows` (the
         cells around some robots) turns into cell sets."""
+        return [r for r, _ in self.owned_step_ranges(positions, previous, steps, margin=margin)]
+
+    def owned_step_ranges(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
+                          ) -> list[tuple[IntArray, IntArray]]:
+        """:meth:`step_ranges` with the obstacle each range comes from: per step k, (ranges
+        (q, 4), obstacle (q,)); a caller leaves some obstacles out by their rows."""
         if self.m == 0:
-            return [np.zeros((0, 4), np.int64) for _ in range(steps)]
-        out = [self._danger_ranges(positions, previous, margin)]
+            return [(np.zeros((0, 4), np.int64), np.zeros(0, np.int64)) for _ in range(steps)]
+        out = [self._owned_danger(positions, previous, margin)]
         if steps < 2:
             return out
         m = self.m
@@ -338,6 +350,7 @@ class ObstacleForecast:
         # listed exactly (few branches); the others are bounded by boxes
         runs, exact = self._bounce_runs(p, d, straight & ~ok.all(axis=1) & (self.steady >= steps), steps)
         scripted = np.array([j for j in self.script if len(self.script[j]) > steps], np.int64)
+        boxed = np.flatnonzero(~exact)
         for k in range(2, steps + 1):
             free = np.minimum(free_all, k)
             sure = free >= k
@@ -350,57 +363,67 @@ class ObstacleForecast:
                 b[scripted] = [self.script[j][k] for j in scripted.tolist()]
             lo = np.minimum(a, b) + self.keep_lo - grow
             hi = np.maximum(a, b) + self.keep_hi + grow
-            boxes = box_cell_ranges(lo[~exact], hi[~exact], self.resolution, margin)
+            boxes = box_cell_ranges(lo[boxed], hi[boxed], self.resolution, margin)
+            owners = boxed
             if exact.any():
                 j, a, b = runs[k - 1]
                 boxes = np.concatenate([boxes, box_cell_ranges(np.minimum(a, b) + self.keep_lo[j],
                                                                np.maximum(a, b) + self.keep_hi[j],
                                                                self.resolution, margin)])
-            out.append(boxes)
+                owners = np.concatenate([owners, j])
+            out.append((boxes, owners))
         return out
+
+    def bounce_successors(self, which: IntArray, pos: FloatArray, vel: FloatArray
+                          ) -> tuple[IntArray, FloatArray, FloatArray]:
+        """One step of the bounce and bounce8 models
+        (:func:`swarmpath.world.motions._straight.straight_step`) from the states (``which``
+        (k,) obstacles at ``pos`` (k, 2) with step ``vel`` (k, 2), world units per step):
+        straight on where the footprint fits; where it does not, bounce8 takes one step in any
+        other compass direction at the same speed that fits and bounce the first reflection
+        that fits (x flipped, y flipped, both); with none, they stand with the heading
+        reversed. Returns (parent (q,), position (q, 2), step (q, 2)): every state one step
+        on, with the index of the state it comes from (a bounce8 turn has several)."""
+        j = np.asarray(which, np.int64)
+        eight = self.code[j] == BOUNCE8
+        # straight on, and the 8 compass directions at the same speed, checked together
+        speed = np.hypot(vel[:, 0], vel[:, 1])
+        turns = UNIT_DIRECTIONS[None] * speed[:, None, None]                      # (k, 8, 2)
+        dest = pos[:, None, :] + np.concatenate([vel[:, None, :], turns], axis=1)   # (k, 9, 2)
+        free = self.fits(np.repeat(j, 9), dest.reshape(-1, 2)).reshape(len(j), 9)
+        ok = free[:, 0]
+        hit = np.flatnonzero(~ok & eight)
+        other = free[hit, 1:] & (np.abs(turns[hit] - vel[hit, None, :]).max(axis=2) > 1e-9)
+        r, c = np.nonzero(other)
+        flip = np.flatnonzero(~ok & ~eight)
+        flips = vel[flip, None, :] * BOUNCE_FLIPS[None]                              # (f, 3, 2)
+        flip_to = pos[flip, None, :] + flips
+        fits = self.fits(np.repeat(j[flip], 3), flip_to.reshape(-1, 2)).reshape(len(flip), 3)
+        first = np.argmax(fits, axis=1)
+        reflected = fits.any(axis=1)
+        f = flip[reflected]
+        boxed = np.concatenate([hit[~other.any(axis=1)], flip[~reflected]])
+        parent = np.concatenate([np.flatnonzero(ok), hit[r], f, boxed])
+        new_pos = np.concatenate([dest[ok, 0], dest[hit[r], 1 + c], flip_to[reflected, first[reflected]], pos[boxed]])
+        new_vel = np.concatenate([vel[ok], turns[hit[r], c], flips[reflected, first[reflected]], -vel[boxed]])
+        return parent, new_pos, new_vel
 
     def _bounce_runs(self, p: FloatArray, d: FloatArray, which: BoolArray, steps: int, cap: int = 256
                      ) -> tuple[list[tuple[IntArray, FloatArray, FloatArray]], BoolArray]:
         """Every way the moving bounce and bounce8 obstacles ``which`` can go in the next
-        ``steps`` steps, as the models move them
-        (:func:`swarmpath.world.motions._straight.straight_step`): straight on while the
-        footprint fits; where it does not, bounce8 takes one step in any other compass
-        direction at the same speed that fits and bounce the first reflection that fits (x
-        flipped, y flipped, both); with none, they stand with the heading reversed. Returns
+        ``steps`` steps, as the models move them (:meth:`bounce_successors`, step by step). Returns
         per step k (1 ... steps) the moves (obstacle, from, to) and a mask of the obstacles
         listed; an obstacle with more than ``cap`` distinct states at some step is left to
         the boxes (the mask is False for it)."""
         exact = which.copy()
         if not exact.any():
             return [], exact
-        eight = self.code == BOUNCE8
         runs: list[tuple[IntArray, FloatArray, FloatArray]] = []
         j = np.flatnonzero(which)
         pos, vel = p[j], d[j]
         for _ in range(steps):
-            # straight on, and the 8 compass directions at the same speed, checked together
-            speed = np.hypot(vel[:, 0], vel[:, 1])
-            turns = UNIT_DIRECTIONS[None] * speed[:, None, None]                  # (s, 8, 2)
-            dest = pos[:, None, :] + np.concatenate([vel[:, None, :], turns], axis=1)  # (s, 9, 2)
-            free = self.fits(np.repeat(j, 9), dest.reshape(-1, 2)).reshape(len(j), 9)
-            ok = free[:, 0]
-            hit = np.flatnonzero(~ok & eight[j])
-            other = free[hit, 1:] & (np.abs(turns[hit] - vel[hit, None, :]).max(axis=2) > 1e-9)
-            r, c = np.nonzero(other)
-            # a bounce obstacle takes the first reflection that fits (flip x, flip y, both)
-            flip = np.flatnonzero(~ok & ~eight[j])
-            flips = vel[flip, None, :] * BOUNCE_FLIPS[None]                          # (f, 3, 2)
-            flip_to = pos[flip, None, :] + flips
-            fits = self.fits(np.repeat(j[flip], 3), flip_to.reshape(-1, 2)).reshape(len(flip), 3)
-            first = np.argmax(fits, axis=1)
-            reflected = fits.any(axis=1)
-            f = flip[reflected]
-            boxed = np.concatenate([hit[~other.any(axis=1)], flip[~reflected]])
-            new_j = np.concatenate([j[ok], j[hit[r]], j[f], j[boxed]])
-            start = np.concatenate([pos[ok], pos[hit[r]], pos[f], pos[boxed]])
-            new_pos = np.concatenate([dest[ok, 0], dest[hit[r], 1 + c],
-                                      flip_to[reflected, first[reflected]], pos[boxed]])
-            new_vel = np.concatenate([vel[ok], turns[hit[r], c], flips[reflected, first[reflected]], -vel[boxed]])
+            parent, new_pos, new_vel = self.bounce_successors(j, pos, vel)
+            new_j, start = j[parent], pos[parent]
             runs.append((new_j, start, new_pos))
             j, pos, vel = new_j, new_pos, new_vel
             count = np.bincount(j, minlength=len(p))
