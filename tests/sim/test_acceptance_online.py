@@ -124,7 +124,7 @@ def test_100_robots_among_20_moving_obstacles_all_home_at_once(controller) -> No
     robot-static contact, a robot-moving contact only after the robot reported ``no_escape``;
     and on 19 seeds or more every robot stands on its goal at the end with no contact of any
     kind (the run ends in the step on which all step home together; pibt 20, cat-swarm 19 of
-    these 20; over seeds 1500-1699, held out, pibt 193, cat-swarm 194 of 200:
+    these 20; over seeds 1500-1699, held out, pibt 193, cat-swarm 193 of 200:
     docs/algorithms/pibt.md). The obstacles never stop, and a random walker can still catch a
     robot that dodges as well as it can."""
     wins = 0
@@ -152,6 +152,22 @@ def test_100_robots_among_20_obstacles_of_other_motion_models(controller, kind) 
     for seed in range(5 if kind == "turn-every" else 10):
         traj, success = checked_run(controller, seed, motions)
         assert success, (controller, kind, seed, traj.status, len(traj.contacts))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("controller", ["cat-swarm", "pibt"])
+def test_robots_react_to_bounce8_turns_they_could_not_outguess(controller) -> None:
+    """Seeds 1606 and 1673: a robot waits on its goal in a nook as a bounce8 obstacle heads
+    for the wall beside it (1606), or in a corridor between two (1673). The open-loop
+    look-ahead takes all seven turns at once and finds no cell safer than the goal; after the
+    turn no move is left and the obstacle hits the robot. The turn game
+    (control/turn_game.py) plays the turn as a game, four steps ahead, and the robot leaves in
+    time: every robot home, no contact of any kind."""
+    for seed in (1606, 1673):
+        traj, success = checked_run(controller, seed, turn_game=False)
+        assert any(c.other % 2 == 0 for c in traj.contacts), (controller, seed)   # a bounce8 obstacle
+        traj, success = checked_run(controller, seed)
+        assert success, (controller, seed, traj.status, len(traj.contacts))
 
 
 def goal_danger_steps(seed: int, steps: int = 250) -> tuple[np.ndarray, int]:

@@ -58,6 +58,7 @@ from swarmpath.control.hazards import (
     warning_levels,
 )
 from swarmpath.control.observation import CLASS_INDEX, Observation
+from swarmpath.control.turn_game import TurnGame
 from swarmpath.control.pibt.core import (
     PUSHED,
     GridGraph,
@@ -134,6 +135,10 @@ class CatSwarmController(Controller):
             ranks its copies by the way round the cells where obstacles have lingered lately
             instead of eq. 12's static length (8; 0: off; see ``pibt`` and
             :mod:`swarmpath.control.detour`).
+        turn_game : with moving obstacles, a robot a turning bounce8 obstacle can reach ranks
+            its copies by how long it can keep clear watching the obstacle turn, four steps
+            ahead (:mod:`swarmpath.control.turn_game`), instead of the open-loop tiers (True;
+            as in ``pibt``).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -144,7 +149,8 @@ class CatSwarmController(Controller):
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
                  hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True,
-                 detour_after: int = DETOUR_AFTER):
+                 detour_after: int = DETOUR_AFTER, turn_game: bool = True):
+        self.turn_game = turn_game
         self.detour_after = detour_after
         self.evasion_horizon = evasion_horizon
         self.evasion_weight = evasion_weight
@@ -228,6 +234,8 @@ class CatSwarmController(Controller):
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
             self.lingering_ = Lingering.start(blocked.shape)
         self.moves_ = K.move_table(blocked)
+        self.turn_game_ = TurnGame(self.forecast_, self.moves_) \
+            if self.forecast_ is not None and self.turn_game else None
         self.evasion_ = EvasionRisk(world, self.grid_, self.moves_, self.forecast_, radius,
                                     self.evasion_horizon) if self.forecast_ is not None and self.evasion_horizon else None
         self.pushes_ = np.zeros(n, np.int64)
@@ -428,6 +436,13 @@ class CatSwarmController(Controller):
                 deep_exits = np.where(odd[k, :, None], exits[k], deep.at(deep.moves, dest[k]))
                 v[k], threat[k], rank[k], ways[k] = deep.tiers(base[k], dest[k], depth, deep_exits,
                                                                fallback=in_danger[r[k]])
+        if self.turn_game_ is not None:
+            # a bounce8 obstacle's turn is seen a step later: the robot can react to it (stalled
+            # robots keep their shorter look-ahead)
+            s = np.flatnonzero(~stalled)
+            v[s], threat[s], rank[s] = self.turn_game_.ranks(obs.obstacle_positions, obs.obstacle_previous, cells[r[s]],
+                                                            base[s], dest[s], v[s], threat[s], rank[s],
+                                                            fallback=in_danger[r[s]])
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
         if len(stuck):

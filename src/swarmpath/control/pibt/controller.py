@@ -50,6 +50,7 @@ from swarmpath.control.pibt.core import (
 )
 from swarmpath.control.pibt.exact import hold_conflicts
 from swarmpath.control.progress import progress_update
+from swarmpath.control.turn_game import TurnGame
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
@@ -142,6 +143,12 @@ class PIBTController(Controller):
         (:mod:`swarmpath.control.detour`) instead of the static distance: an obstacle
         shuttling on its shortest way no longer holds it for good.
         8 (default); 0: off.
+    turn_game : bool
+        With moving obstacles: a robot a turning bounce8 obstacle can reach (one whose
+        straight run meets something within four steps) ranks its candidates by how many of
+        the next four steps it can keep clear when it watches the obstacle turn and reacts
+        (:mod:`swarmpath.control.turn_game`: a small game tree), instead of the open-loop tiers
+        that take every turn at once. True (default).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -149,7 +156,9 @@ class PIBTController(Controller):
     def __init__(self, connectivity: int = 8, swap: bool = True, yield_way: bool = True, lookahead: int = 2,
                  landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0,
                  finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
-                 evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER):
+                 evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER,
+                 turn_game: bool = True):
+        self.turn_game = turn_game
         self.detour_after = detour_after
         self.evasion_horizon = evasion_horizon
         self.evasion_weight = evasion_weight
@@ -209,6 +218,8 @@ class PIBTController(Controller):
             self.dead_end_ = trap_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
             self.lingering_ = Lingering.start(grid.blocked.shape)
+        self.turn_game_ = TurnGame(self.forecast_, self.moves_) \
+            if self.forecast_ is not None and self.turn_game else None
         self.evasion_ = EvasionRisk(world, grid, self.moves_, self.forecast_, radius, self.evasion_horizon) \
             if self.forecast_ is not None and self.evasion_horizon else None
 
@@ -327,6 +338,11 @@ class PIBTController(Controller):
                         k = near[deep.rows]
                         allowed[rows[k]], threatened[rows[k]], rank[k], ways[k] = deep.tiers(
                             base[k], dest[k], depth, fallback=urgent[rows[k]])
+                if self.turn_game_ is not None:
+                    # a bounce8 obstacle's turn is seen a step later: the robot can react to it
+                    allowed[rows], threatened[rows], rank = self.turn_game_.ranks(
+                        obs.obstacle_positions, obs.obstacle_previous, cells[rows], base, dest, allowed[rows],
+                        threatened[rows], rank, fallback=urgent[rows])
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
                 ranks[rows] = rank
             walker_risk = None
