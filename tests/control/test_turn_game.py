@@ -165,3 +165,19 @@ def test_a_tree_over_the_budget_is_not_solved() -> None:
     c = np.floor(now[:1]).astype(int)
     _, _, _, solved = look.clear_steps(now, previous, np.array([0]), fc.owned_step_ranges(now, previous, DEPTH), c, c)
     assert not solved.any()
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_turn_game_setting_is_checked(controller) -> None:
+    from swarmpath.errors import ConfigError
+    from swarmpath.registry import CONTROLLERS
+    from swarmpath.sim import Simulator
+
+    from swarmpath.world import Robot
+
+    world, _, _ = _world(0)
+    free = np.argwhere(~world.grid().blocked)[:, ::-1]
+    world = World(world.bounds, static_map=world.static_map, moving_obstacles=world.moving_obstacles,
+                  robots=(Robot("r", tuple(free[0] + 0.5), tuple(free[-1] + 0.5), 0.0, float(np.sqrt(2))),))
+    with pytest.raises(ConfigError, match="turn_game"):
+        Simulator(world, CONTROLLERS.get(controller)(turn_game="yes"), None, seed=0, max_steps=2).run()

@@ -58,7 +58,6 @@ from swarmpath.control.hazards import (
     warning_levels,
 )
 from swarmpath.control.observation import CLASS_INDEX, Observation
-from swarmpath.control.turn_game import TurnGame
 from swarmpath.control.pibt.core import (
     PUSHED,
     GridGraph,
@@ -67,6 +66,7 @@ from swarmpath.control.pibt.core import (
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
+from swarmpath.control.turn_game import TurnGame
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
 from swarmpath.registry import register_controller
@@ -201,6 +201,8 @@ class CatSwarmController(Controller):
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"cat-swarm: detour_after must be a whole number >= 0, got {self.detour_after!r}")
+        if not isinstance(self.turn_game, (bool, np.bool_)):
+            raise ConfigError(f"cat-swarm: turn_game must be True or False, got {self.turn_game!r}")
 
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self._check_parameters()

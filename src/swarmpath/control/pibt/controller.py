@@ -188,6 +188,8 @@ class PIBTController(Controller):
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"pibt: detour_after must be a whole number >= 0, got {self.detour_after!r}")
+        if not isinstance(self.turn_game, (bool, np.bool_)):
+            raise ConfigError(f"pibt: turn_game must be True or False, got {self.turn_game!r}")
         n = world.n_robots
         res = world.resolution
         radius = float(world.radii.max(initial=0.0))
