@@ -65,7 +65,7 @@ def turning_obstacles(forecast: ObstacleForecast, positions: FloatArray, previou
     p = np.asarray(positions, float).reshape(forecast.m, 2)
     d = p - np.asarray(previous, float).reshape(forecast.m, 2)
     moving = np.hypot(d[:, 0], d[:, 1]) > 1e-9
-    j = np.flatnonzero((forecast.code == BOUNCE8) & moving & (forecast.steady >= depth))
+    j = np.flatnonzero((forecast.code == BOUNCE8) & moving)
     if len(j) == 0:
         return j
     ahead = p[j, None, :] + d[j, None, :] * np.arange(1, depth + 1)[None, :, None]
@@ -145,8 +145,8 @@ class TurnGame:
                     ) -> tuple[IntArray, NDArray[np.int8], NDArray[np.int8], BoolArray]:
         """V of the module docstring for each obstacle of ``turning`` (t,) (at ``positions``,
         one step earlier ``previous``): (origins (t, 2), values (t, s, s), ways (t, s, s), solved
-        (t,)) on a square region of cells ``origin + (0 ... s - 1)`` around each, a value being the steps
-        (0 ... depth) a robot arriving in that cell next step can keep clear of every moving
+        (t,)) on a square region of cells ``origin + (0 ... s - 1)`` around each, a value being
+        the steps (0 ... depth) a robot arriving in that cell next step can keep clear of every moving
         obstacle, reacting to that obstacle's turns, and ways the fewest moves that keep that
         value the step after, whichever way the obstacle goes. ``owned``: the forecast's
         :meth:`~swarmpath.control.hazards.ObstacleForecast.owned_step_ranges` for ``depth``
@@ -273,14 +273,6 @@ class TurnGame:
         new = np.where(base[rows], 2 * depth + 1 - np.maximum(best[rows], 0), rank[rows])
         keep = base[rows] & (new == np.where(base[rows], new, np.iinfo(np.int64).max).min(axis=1, keepdims=True))
         rank[rows] = new
-        keep_all = np.zeros(len(rows), bool) if fallback is None else np.asarray(fallback, bool)[rows]
-        allowed[rows] = np.where(keep_all[:, None], base[rows], keep)
-        threatened[rows] = ~keep[:, 0]
-        return allowed, threatened, rank
-        clear = np.where(base[rows], best[rows], -1)
-        top = clear.max(axis=1, keepdims=True)
-        keep = base[rows] & (clear == top)
-        rank[rows] = np.where(base[rows], 2 * (depth - np.maximum(clear, 0)), rank[rows])
         keep_all = np.zeros(len(rows), bool) if fallback is None else np.asarray(fallback, bool)[rows]
         allowed[rows] = np.where(keep_all[:, None], base[rows], keep)
         threatened[rows] = ~keep[:, 0]
