@@ -168,3 +168,47 @@ def test_a_gathering_step_is_safe_and_its_chance_of_the_finish_is_right(radius) 
             stepper.end_step(mid)
     assert proposed >= 40
     assert abs(float(np.mean(gaps))) < 0.03
+
+
+def off_centre_disc_world(seed: int, size: int = 20, n: int = 40, radius: float = 0.3, offset: float = 0.2,
+                          moving: int = 0) -> World:
+    """A size x size map with 12 % blocked cells, ``n`` disc robots of ``radius`` on distinct
+    cells, each goal its cell's centre moved by up to ``offset`` on each axis (the disc stays
+    inside its cell's square), and ``moving`` 1-cell blocks (bounce8 and random-walk in turn)."""
+    from swarmpath.search import distance_field
+
+    rng = np.random.default_rng(seed)
+    blocked = rng.random((size, size)) < 0.12
+    free = np.argwhere(~blocked)
+    y, x = free[rng.integers(len(free))]
+    connected = np.argwhere(np.isfinite(distance_field(blocked, (int(x), int(y)))))[:, ::-1]
+    pick = connected[rng.choice(len(connected), size=2 * n + moving, replace=False)]
+    shift = rng.uniform(-offset, offset, (n, 2))
+    robots = tuple(Robot(f"r{i}", tuple(pick[i] + 0.5), tuple(pick[n + i] + 0.5 + shift[i]), radius, S2)
+                   for i in range(n))
+    obstacles = tuple(MovingObstacle(f"m{k}", Rect((-0.5, -0.5), (0.5, 0.5)), tuple(c + 0.5), (1.0, 0.0),
+                                     RandomWalk() if k % 2 else Bounce8())
+                      for k, c in enumerate(pick[2 * n:]))
+    return World(RectBounds(size, size), static_map=StaticMap(blocked, 1.0), moving_obstacles=obstacles,
+                 robots=robots, name=f"off-centre-{seed}")
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_disc_robots_with_goals_off_the_centre_all_arrive(controller) -> None:
+    """Disc robots (radius 0.3) whose goals lie up to 0.2 off their cells' centres: resting on
+    such a goal a disc reaches into the next cells, where its neighbours' centre-to-centre
+    moves graze it, and those moves were withheld step after step until the run deadlocked
+    (0 of 4 runs of 100 robots on 64 x 64 maps). They now wait on the centre and step home with
+    the finishing step: every run ends with every robot home and no contact, checked by the
+    independent checker."""
+    from swarmpath.registry import CONTROLLERS
+    from swarmpath.sim import Simulator
+    from swarmpath.testing import validate_trajectory
+
+    for seed in range(5):
+        world = off_centre_disc_world(seed)
+        traj = Simulator(world, CONTROLLERS.get(controller)(), seed=seed).run()
+        at = np.linalg.norm(traj.positions[-1] - world.goals, axis=1) <= 1e-9
+        assert validate_trajectory(world, traj) == [] and not traj.contacts, (controller, seed)
+        assert traj.status == "all_reached" and at.all(), (controller, seed, traj.status, int(at.sum()))
+        assert any(e["kind"] == "finish_together" for e in traj.events), (controller, seed)

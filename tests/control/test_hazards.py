@@ -209,8 +209,7 @@ def test_bounce_coverage_is_exactly_every_future_of_the_model(seed, motion):
     for k, sweeps in enumerate(bounce_futures(world, ob, start, heading, 4)):
         a = np.array([s[0] for s in sweeps])
         b = np.array([s[1] for s in sweeps])
-        expected = H.paint(blocked.shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo, np.maximum(a, b) + fc.keep_hi,
-                                                            1.0))
+        expected = H.paint(blocked.shape, fc.cover_ranges(np.minimum(a, b) + fc.keep_lo, np.maximum(a, b) + fc.keep_hi))
         if k or isinstance(motion, Bounce8):
             assert np.array_equal(coverage[k], expected), k
         else:
@@ -247,8 +246,8 @@ def test_forecasts_hold_every_simulated_future():
         assert all(not (c & ~lc).any() for c, lc in zip(coverage, loose))
         for k in range(1, depth + 1):
             a, b = path[t + k - 1], path[t + k]
-            swept = H.paint(coverage[0].shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo,
-                                                                 np.maximum(a, b) + fc.keep_hi, 1.0))
+            swept = H.paint(coverage[0].shape, fc.cover_ranges(np.minimum(a, b) + fc.keep_lo,
+                                                               np.maximum(a, b) + fc.keep_hi))
             assert not (swept & ~coverage[k - 1]).any(), (t, k)
         fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)   # no step known: any-heading
     assert tighter > len(path) // 2   # turn-every is forecast as a bouncer between its turns
@@ -417,11 +416,101 @@ def test_waypoint_obstacles_are_forecast_along_their_route():
         coverage = fc.coverage(path[t], path[t - 1], depth)
         for k in range(1, depth + 1):
             a, b = path[t + k - 1], path[t + k]
-            swept = H.paint(coverage[0].shape, H.box_cell_ranges(np.minimum(a, b) + fc.keep_lo,
-                                                                 np.maximum(a, b) + fc.keep_hi, 1.0))
+            swept = H.paint(coverage[0].shape, fc.cover_ranges(np.minimum(a, b) + fc.keep_lo,
+                                                               np.maximum(a, b) + fc.keep_hi))
             assert not (swept & ~coverage[k - 1]).any(), (t, k)
             assert np.array_equal(swept, coverage[k - 1]), (t, k)
         assert sum(c.sum() for c in coverage) < sum(c.sum() for c in loose) / 2
         elsewhere = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)
         elsewhere.at_step(t - 1, path[t] + 0.5)
         assert not elsewhere.script
+
+
+def _simulated_obstacles(seed: int, steps: int):
+    """A cluttered world's obstacles of every forecast class but teleport (a redraw jumps
+    anywhere off the robots' cells), run ``steps`` steps by the simulator's own models:
+    (world, positions (steps + 2, m, 2), the first being one step before the start)."""
+    from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
+
+    world, _, _, rng = world_with_obstacles(seed, size=20)
+    obs = tuple(o for o in world.moving_obstacles if o.motion.forecast != "teleport")
+    world = World(world.bounds, static_map=world.static_map, moving_obstacles=obs, robots=world.robots,
+                  name=f"disc{seed}")
+    state = initial_obstacle_state(world)
+    path = [state.positions - state.velocities * world.dt, state.positions]
+    for _ in range(steps):
+        state = advance_obstacles(world, state, rng)
+        path.append(state.positions)
+    return world, np.array(path)
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.3, 0.5])
+@pytest.mark.parametrize("seed", range(3))
+def test_robots_on_uncovered_cells_are_never_hit_by_the_checker(seed, radius):
+    """The cover rule against the independent checker, for point and disc robots: a robot
+    resting on an uncovered cell's centre (D_1) meets no obstacle in the next step, and a move
+    between two uncovered 8-adjacent centres that :meth:`crossings` clears meets none where
+    the obstacles stand. Disc robots count cells by their centres, so they lose far fewer
+    cells than a square-overlap rule would take from them."""
+    from swarmpath.sim.collisions import robot_moving_contacts
+
+    world, path = _simulated_obstacles(seed, 60)
+    h, w = world.grid().blocked.shape
+    fc = H.ObstacleForecast(world, world.grid(), robot_radius=radius)
+    cells = np.argwhere(np.ones((h, w), bool))[:, ::-1]
+    centres = cells + 0.5
+    radii = np.full(len(cells), radius)
+    lost = squares = hits = 0
+    for t in range(1, len(path) - 1):
+        fc.at_step(t - 1, path[t])
+        danger = fc.danger(path[t], path[t - 1])
+        clear = ~danger[cells[:, 1], cells[:, 0]]
+        rest = robot_moving_contacts(world, centres[clear], centres[clear], path[t], path[t + 1], radii[clear])
+        assert rest == [], (t, rest[:3])
+        hits += len(robot_moving_contacts(world, centres, centres, path[t], path[t + 1], radii))
+        lost += int(danger.sum())
+        p = path[t].reshape(-1, 2)
+        cand, possible, extra = fc.next_positions(p, path[t - 1])
+        j, s = np.nonzero(possible)
+        q = cand[j, s]
+        squares += int(H.paint(danger.shape, H.box_cell_ranges(np.minimum(p[j], q) + fc.keep_lo[j] - extra[j, None],
+                                                                np.maximum(p[j], q) + fc.keep_hi[j] + extra[j, None],
+                                                                1.0)).sum())
+        for move in GRID_MOVES[1:]:
+            ends = cells + move
+            inside = np.all((ends >= 0) & (ends < [w, h]), axis=1)
+            ok = clear & inside
+            ok[inside] &= ~danger[ends[inside, 1], ends[inside, 0]]
+            ok[ok] &= ~fc.crossings(centres[ok], (centres[ok] + move)[:, None, :], path[t])[:, 0]
+            moved = robot_moving_contacts(world, centres[ok], centres[ok] + move, path[t], path[t], radii[ok])
+            assert moved == [], (t, move, moved[:3])
+    assert hits > 0                       # obstacles do sweep over cells: the check can fail
+    if radius > 0:
+        assert lost < 0.6 * squares       # centre cover: far fewer cells lost than by squares
+    else:
+        assert lost == squares
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.3, 0.5])
+def test_sweep_hits_is_the_checkers_phase_one_for_robots_off_centre(radius):
+    """:meth:`ObstacleForecast.sweep_hits` at points anywhere (exact goals off the cell centres)
+    flags every point the obstacles' actual next move hits (by the checker) and is exact for
+    the obstacles whose next position is certain (a straight run)."""
+    from swarmpath.sim.collisions import robot_moving_contacts
+
+    world, path = _simulated_obstacles(7, 60)
+    h, w = world.grid().blocked.shape
+    rng = np.random.default_rng(1)
+    points = rng.uniform(0, [w, h], (400, 2))
+    radii = np.full(len(points), radius)
+    fc = H.ObstacleForecast(world, world.grid(), robot_radius=radius)
+    flagged = hit = 0
+    for t in range(1, len(path) - 1):
+        fc.at_step(t - 1, path[t])
+        may = fc.sweep_hits(points, path[t], path[t - 1])
+        actual = {i for i, _, _ in robot_moving_contacts(world, points, points, path[t], path[t + 1], radii)}
+        assert all(may[i] for i in actual), t
+        flagged += int(may.sum())
+        hit += len(actual)
+    assert hit > 0
+    assert flagged < 12 * hit             # the worst case of a walker's 9 moves, not a blanket

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.control.hazards import HazardWindows, ObstacleForecast, box_cell_ranges
+from swarmpath.control.hazards import HazardWindows, ObstacleForecast
 from swarmpath.world.move_rules import GRID_MOVES
 
 FloatArray = NDArray[np.float64]
@@ -68,8 +68,8 @@ def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
     q = cand[j, s]
     lo = np.minimum(p[j], q) + forecast.keep_lo[j] - extra[j, None]
     hi = np.maximum(p[j], q) + forecast.keep_hi[j] + extra[j, None]
-    sweeps = box_cell_ranges(lo, hi, forecast.resolution)                          # (w, 4)
-    here = box_cell_ranges(p + forecast.keep_lo, p + forecast.keep_hi, forecast.resolution)   # (m, 4)
+    sweeps = forecast.cover_ranges(lo, hi)                                         # (w, 4)
+    here = forecast.cover_ranges(p + forecast.keep_lo, p + forecast.keep_hi)       # (m, 4)
     x, y = cells[..., 0, None], cells[..., 1, None]
 
     def inside(r: IntArray) -> BoolArray:

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.control.hazards import box_cell_ranges, paint
+from swarmpath.control.hazards import paint
 from swarmpath.world.move_rules import GRID_MOVES
 
 FloatArray = NDArray[np.float64]
@@ -159,8 +159,7 @@ class Lingering:
     def update(self, forecast, positions: FloatArray) -> None:
         """Count the obstacles (``forecast``'s footprints) standing at ``positions`` (m, 2)."""
         p = np.asarray(positions, float).reshape(-1, 2)
-        here = paint(self.level.shape, box_cell_ranges(p + forecast.keep_lo, p + forecast.keep_hi,
-                                                       forecast.resolution))
+        here = paint(self.level.shape, forecast.cover_ranges(p + forecast.keep_lo, p + forecast.keep_hi))
         self.level *= LINGER_DECAY
         self.level += here
 

@@ -30,6 +30,15 @@ from swarmpath.world.world import World
 FloatArray = NDArray[np.float64]
 
 
+def off_centre_discs(world: World, goal_centres: FloatArray) -> NDArray[np.bool_]:
+    """Disc robots whose exact goal lies off its cell's centre (``goal_centres`` (n, 2)). A
+    controller with the finishing step lets them wait on the centre and step onto the goal
+    with the others at the end: resting off the centre, a disc reaches into the next cells,
+    where the centre-to-centre move rules of its neighbours do not see it, and a neighbour
+    whose move it would graze is held back step after step (a deadlock)."""
+    return (world.radii > 0) & (np.linalg.norm(world.goals - goal_centres, axis=1) > 1e-9)
+
+
 def finish_positions(world: World, obs: Observation) -> FloatArray | None:
     """Every robot's goal (n, 2) when all robots can end this step on their goals without any
     contact of the robots' move (phase 2 of the step, the simulator's own rules); else None.
@@ -154,6 +163,9 @@ def gathering_positions(world: World, obs: Observation, forecast, grid, moves: N
     radii = world.radii
     ok &= ~world.static_hits(flat_t, flat_g, np.repeat(radii, 9)).reshape(n, 9)
     ok &= ~forecast.crossings(pos, targets, obs.obstacle_positions)
+    if forecast.centre_cover:   # disc robots: a cell speaks for its centre only
+        odd = np.abs(targets - grid.centers(dest)).max(axis=-1) > 1e-9
+        ok[odd] &= ~forecast.sweep_hits(targets[odd], obs.obstacle_positions, obs.obstacle_previous)
     if not ok.any(axis=1).all():
         return None
     # one cell each, the most constrained robot first; moves now must not conflict

@@ -7,11 +7,16 @@ position at t + 1 misses it. The controller knows the obstacles' footprints and 
 position an obstacle can take next: one for a straight move, every free direction when it
 bounces or walks at random, anything within its speed when the model may turn to any angle.
 
-Footprints are handled through their bounding boxes on the grid: a cell is *covered* when
-the open box overlaps the cell's open square. A point robot anywhere in the closed square of
-an uncovered cell (centre or corner) is strictly outside the footprint, and a move between
-the centres of two uncovered 8-adjacent cells stays outside it (the move lies in the two
-closed squares and, for a diagonal, their common corner).
+Footprints are handled through their bounding boxes on the grid, grown by the robots'
+radius. For point robots a cell is *covered* when the open box overlaps the cell's open
+square: a point robot anywhere in the closed square of an uncovered cell (centre or corner)
+is strictly outside the footprint, and a move between the centres of two uncovered 8-adjacent
+cells stays outside it (the move lies in the two closed squares and, for a diagonal, their
+common corner). For disc robots a cell is covered when its centre lies inside the grown box:
+the square rule would take the cells around every footprint from them, though a disc resting
+on the next centre is clear. A disc's diagonal move can then graze a footprint between two
+clear centres (checked by :meth:`ObstacleForecast.crossings`), and a disc resting off a
+centre is checked where it rests (:meth:`ObstacleForecast.sweep_hits`).
 
 Everything is vectorised over obstacles; boxes are painted with a 2-D difference array.
 """
@@ -23,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.world.motions import FORECASTS, Motion, StepContext
-from swarmpath.world.move_rules import GRID_MOVES
+from swarmpath.world.move_rules import GRID_MOVES, footprint_hits
 from swarmpath.world.moving import MovingObstacle
 from swarmpath.world.shapes import Circle
 
@@ -40,6 +45,9 @@ _MOVING = 1e-9
 N_SLOTS = 10  # 0: stay, 1: straight on, 2-9: the 8 directions (or the 3 bounce reflections)
 #: Steps ahead a scripted obstacle's positions are listed (the deepest look-ahead asks 7).
 SCRIPT_STEPS = 12
+#: How far (world units) inside a box a cell centre must lie to count as covered by it: half the
+#: checker's tolerance (``geometry.EPS``), so an uncovered centre is surely clear.
+CENTRE_SLACK = 0.5e-9
 
 
 def footprint_box(ob: MovingObstacle) -> tuple[FloatArray, FloatArray]:
@@ -63,6 +71,16 @@ def box_cell_ranges(lo: FloatArray, hi: FloatArray, resolution: float, margin: i
     (lo, hi) (shape (k, 2) each), grown by ``margin`` cells: int array (k, 4)."""
     x0y0 = np.floor(lo / resolution + 1e-6).astype(np.int64) - margin
     x1y1 = np.ceil(hi / resolution - 1e-6).astype(np.int64) + margin
+    return np.concatenate([x0y0, x1y1], axis=-1)
+
+
+def centre_cell_ranges(lo: FloatArray, hi: FloatArray, resolution: float, margin: int = 0) -> IntArray:
+    """Cell ranges [x0, x1) x [y0, y1) of the cells whose centres lie inside the open boxes
+    (lo, hi) (shape (k, 2) each), grown by ``margin`` cells: int array (k, 4). A centre within
+    ``CENTRE_SLACK`` of a box's edge counts as outside: a disc there only touches the footprint
+    (the checker allows contact within ``geometry.EPS``)."""
+    x0y0 = np.floor((lo + CENTRE_SLACK) / resolution - 0.5).astype(np.int64) + 1 - margin
+    x1y1 = np.ceil((hi - CENTRE_SLACK) / resolution - 0.5).astype(np.int64) + margin
     return np.concatenate([x0y0, x1y1], axis=-1)
 
 
@@ -130,6 +148,10 @@ class ObstacleForecast:
         # what robots must keep out of: the footprint grown by the robots' radius
         self.keep_lo = self.lo - robot_radius
         self.keep_hi = self.hi + robot_radius
+        # disc robots: a cell is covered when its centre lies in the grown box (centre cover);
+        # point robots: when the box overlaps its square (the moves then need no own check)
+        self.robot_radius = float(robot_radius)
+        self.centre_cover = self.robot_radius > 0
         self.code = np.array([motion_code(o) for o in obs], np.int64)
         self.base_code = self.code.copy()
         # any-heading models that move as bounce does on known steps (turn-every between turns)
@@ -161,6 +183,17 @@ class ObstacleForecast:
         keys = [tuple(np.r_[lo, hi].round(12)) for lo, hi in boxes]
         first: dict[tuple, int] = {}
         self.shape_of = np.array([first.setdefault(k, j) for j, k in enumerate(keys)], np.int64)
+
+    def cover_ranges(self, lo: FloatArray, hi: FloatArray, margin: int = 0) -> IntArray:
+        """The cells (ranges (k, 4)) that open boxes (lo, hi) (k, 2) of footprints grown by the
+        robots' radius cover: for point robots the cells whose squares they overlap
+        (:func:`box_cell_ranges`), for disc robots the cells whose centres they hold
+        (:func:`centre_cell_ranges`): a disc resting on a centre outside the grown box is
+        clear of the footprint, and a disc's diagonal move past a footprint, which can touch it
+        between two clear centres, is checked on its own (:meth:`crossings`)."""
+        if self.centre_cover:
+            return centre_cell_ranges(lo, hi, self.resolution, margin)
+        return box_cell_ranges(lo, hi, self.resolution, margin)
 
     def at_step(self, step: int, positions: FloatArray | None = None) -> None:
         """The obstacles have made their move of step ``step``: an any-heading model that
@@ -315,7 +348,7 @@ class ObstacleForecast:
         q = cand[j, s]
         lo = np.minimum(p[j], q) + self.keep_lo[j] - extra[j, None]
         hi = np.maximum(p[j], q) + self.keep_hi[j] + extra[j, None]
-        return box_cell_ranges(lo, hi, self.resolution, margin), j
+        return self.cover_ranges(lo, hi, margin), j
 
     def step_ranges(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
                     ) -> list[IntArray]:
@@ -363,13 +396,12 @@ class ObstacleForecast:
                 b[scripted] = [self.script[j][k] for j in scripted.tolist()]
             lo = np.minimum(a, b) + self.keep_lo - grow
             hi = np.maximum(a, b) + self.keep_hi + grow
-            boxes = box_cell_ranges(lo[boxed], hi[boxed], self.resolution, margin)
+            boxes = self.cover_ranges(lo[boxed], hi[boxed], margin)
             owners = boxed
             if exact.any():
                 j, a, b = runs[k - 1]
-                boxes = np.concatenate([boxes, box_cell_ranges(np.minimum(a, b) + self.keep_lo[j],
-                                                               np.maximum(a, b) + self.keep_hi[j],
-                                                               self.resolution, margin)])
+                boxes = np.concatenate([boxes, self.cover_ranges(np.minimum(a, b) + self.keep_lo[j],
+                                                                 np.maximum(a, b) + self.keep_hi[j], margin)])
                 owners = np.concatenate([owners, j])
             out.append((boxes, owners))
         return out
@@ -480,6 +512,32 @@ class ObstacleForecast:
         extent = float(np.max(np.abs(np.concatenate([self.keep_lo, self.keep_hi]))))
         fastest = float(np.max(np.maximum(self.speed, self.walk_step), initial=0.0))
         return extent + (steps + 1) * fastest
+
+    def sweep_hits(self, points: FloatArray, positions: FloatArray, previous: FloatArray) -> BoolArray:
+        """Whether a robot of the forecast's radius resting at ``points`` (..., 2) may be hit in
+        phase 1 of the next step: some obstacle's footprint sweeping from where it stands now
+        to one of its possible next positions (:meth:`next_positions`, grown by their
+        uncertainty) reaches it, exactly as the checker decides
+        (:func:`~swarmpath.world.move_rules.footprint_hits`). For disc robots resting off a cell
+        centre (an exact goal), which the centre cover does not speak for."""
+        pts = np.asarray(points, float)
+        flat = pts.reshape(-1, 2)
+        hit = np.zeros(len(flat), bool)
+        if self.m == 0 or len(flat) == 0:
+            return hit.reshape(pts.shape[:-1])
+        p = np.asarray(positions, float).reshape(self.m, 2)
+        cand, possible, extra = self.next_positions(p, previous)
+        reach = np.max(np.abs(np.concatenate([self.keep_lo, self.keep_hi], axis=1)), axis=1) + extra \
+            + np.max(np.abs(cand - p[:, None, :]), axis=(1, 2))
+        for j in range(self.m):
+            near = np.flatnonzero(np.max(np.abs(flat - p[j]), axis=1) <= reach[j] + self.resolution)
+            if len(near) == 0:
+                continue
+            shape = self.world.moving_obstacles[j].placed((0.0, 0.0))
+            r = np.full(len(near), self.robot_radius + extra[j])
+            for q in cand[j, possible[j]]:
+                hit[near] |= footprint_hits(shape, flat[near] - p[j], flat[near] - q, r)
+        return hit.reshape(pts.shape[:-1])
 
     def crossings(self, starts: FloatArray, ends: FloatArray, positions: FloatArray) -> BoolArray:
         """Whether each move starts[r] -> ends[r, c] (shapes (k, 2) and (k, c, 2)) passes

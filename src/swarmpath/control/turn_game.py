@@ -204,12 +204,11 @@ class TurnGame:
         value = np.zeros((0, size, size), np.int8)
         for level in range(depth - 1, -1, -1):
             parent, child, g, a, b = edges[level]
-            lo = (np.minimum(a, b) + keep_lo[g]) / res
-            hi = (np.maximum(a, b) + keep_hi[g]) / res
-            x0 = (np.floor(lo[:, 0] + 1e-9).astype(np.int64) - origin[g, 0])[:, None, None]
-            y0 = (np.floor(lo[:, 1] + 1e-9).astype(np.int64) - origin[g, 1])[:, None, None]
-            x1 = (np.ceil(hi[:, 0] - 1e-9).astype(np.int64) - origin[g, 0])[:, None, None]
-            y1 = (np.ceil(hi[:, 1] - 1e-9).astype(np.int64) - origin[g, 1])[:, None, None]
+            box = fc.cover_ranges(np.minimum(a, b) + keep_lo[g], np.maximum(a, b) + keep_hi[g])
+            x0 = (box[:, 0] - origin[g, 0])[:, None, None]
+            y0 = (box[:, 1] - origin[g, 1])[:, None, None]
+            x1 = (box[:, 2] - origin[g, 0])[:, None, None]
+            y1 = (box[:, 3] - origin[g, 1])[:, None, None]
             hit = (xs >= x0) & (xs < x1) & (ys >= y0) & (ys < y1) | covered[g, level]
             if level + 1 < depth:
                 later = np.where(expand[level + 1][child, None, None], value[child], free[level + 1][g])

@@ -78,14 +78,16 @@ class GridCells:
         return K.moves_at(self.grid.blocked, cells)
 
     def candidates(self, pos: FloatArray, goals: FloatArray, cells: IntArray, copies: IntArray, *,
-                   centre_first: bool = False) -> tuple[FloatArray, BoolArray, BoolArray, BoolArray]:
+                   centre_first: bool = False, hold: BoolArray | None = None
+                   ) -> tuple[FloatArray, BoolArray, BoolArray, BoolArray]:
         """Where each candidate takes the robot (n, 9, 2): a cell centre, the exact goal in the
         goal cell; staying settles on the centre (or the goal) of the robot's own cell. With
         ``centre_first`` a move into the goal cell goes to the exact goal only when it is
         within reach, else to the cell's centre (a goal on the cell's far corner, e.g. the
         workspace's corner, is then reached in two steps instead of never). Also which
         candidates are the goal cell (n, 9), which are allowed statically (n, 9), and which
-        are allowed and within reach (n, 9; staying always is)."""
+        are allowed and within reach (n, 9; staying always is). Robots ``hold`` (n,) keep to
+        the centre of their goal cell (they step onto the goal with the finishing step)."""
         grid = self.grid
         static_ok = self.moves(cells)
         targets = grid.centers(copies)
@@ -94,8 +96,12 @@ class GridCells:
         if centre_first:
             to_goal = in_goal_cell & (np.linalg.norm(goals - pos, axis=1)
                                       <= self.reach * (1 + 1e-9) + 1e-12)[:, None]
+        settle = in_goal_cell[:, K.STAY]
+        if hold is not None:
+            to_goal = to_goal & ~hold[:, None]
+            settle = settle & ~hold
         targets = np.where(to_goal[..., None], goals[:, None, :], targets)
-        targets[:, K.STAY] = np.where(in_goal_cell[:, K.STAY, None], goals, grid.centers(cells))
+        targets[:, K.STAY] = np.where(settle[:, None], goals, grid.centers(cells))
         in_reach = np.linalg.norm(targets - pos[:, None, :], axis=2) <= self.reach[:, None] * (1 + 1e-9) + 1e-12
         valid = static_ok & in_reach
         valid[:, K.STAY] = True  # staying (or settling inside one's own cell) is always possible

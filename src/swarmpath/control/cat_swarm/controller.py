@@ -46,7 +46,7 @@ from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
-from swarmpath.control.finish import finishing_step, gathering_step
+from swarmpath.control.finish import finishing_step, gathering_step, off_centre_discs
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
     ObstacleForecast,
@@ -120,7 +120,8 @@ class CatSwarmController(Controller):
         landmarks : landmark cells of the lazy distance tables ("auto", see ``pibt``).
         finish_together : with moving obstacles, all robots step onto their goals at once
             when that step has no contact, which ends the run (True; see ``pibt`` and
-            :mod:`swarmpath.control.finish`).
+            :mod:`swarmpath.control.finish`); in any world, disc robots whose goals lie off
+            their cells' centres wait on the centres and step home with that step.
         hover : within this many cells of its goal a robot keeps only the next step clear
             instead of ``leave_early`` steps (None: nowhere; 0: on its goal; see ``pibt``).
         evasion_horizon, evasion_weight : with random walkers, a robot near one ranks its
@@ -216,6 +217,9 @@ class CatSwarmController(Controller):
         self.goal_cells_ = cells.goal_cells
         self.goal_flat_ = (cells.goal_cells[:, 1] * self.width_ + cells.goal_cells[:, 0]).astype(np.int32)
         self.goal_ok_ = cells.grid.is_free(cells.goal_cells) if n else np.zeros(0, bool)
+        # disc robots with goals off the centre wait on it and step home with the finish
+        self.hold_ = off_centre_discs(world, cells.grid.centers(cells.goal_cells)) if self.finish_together \
+            else np.zeros(n, bool)
         radius = float(world.radii.max(initial=0.0))
         self.graph_ = GridGraph.build(blocked, 8, radius, world.resolution)
         self.tables_ = LazyDistanceTables(blocked, connectivity=8,
@@ -303,17 +307,21 @@ class CatSwarmController(Controller):
         if self.forecast_ is not None:
             self.forecast_.at_step(obs.step, obs.obstacle_positions)   # turn-every, waypoints
             self.lingering_.update(self.forecast_, obs.obstacle_positions)
-        if self.finish_together and self.forecast_ is not None:
+        if self.finish_together and (self.forecast_ is not None or self.hold_.any()):
             done = finishing_step(self.world_, obs)
-            if done is None and self.gather:
+            if done is None and self.gather and self.forecast_ is not None:
                 done = gathering_step(self.world_, obs, self.forecast_, self.grid_, self.moves_, self.lookahead)
             if done is not None:
                 return done
-        pos, goals, at_goal = obs.positions, obs.goals, obs.at_goal
+        pos, goals = obs.positions, obs.goals
         rows = np.arange(n)
-        active = ~at_goal
         cells = self.cells_.cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
+        # once every robot is in its goal cell and the finish still fails, each goes home alone
+        holding = self.hold_ & ~in_goal_cell.all()
+        at_goal = obs.at_goal | (holding & in_goal_cell
+                                 & (np.abs(pos - self.grid_.centers(cells)).max(axis=1) <= 1e-9))
+        active = ~at_goal
         # step 6.1-6.2: the seeking memory pool, 9 candidate cells per robot, and eq. 12
         copies = K.seek_copies(cells, srd=self.seeking_range)
         fitness = self._fitness(cells, in_goal_cell)
@@ -325,7 +333,8 @@ class CatSwarmController(Controller):
             if len(slow):
                 fitness[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], self.moves_,
                                                fitness[slow], lambda r, c: self.tables_.distances(self.handles_[slow[r]], c))
-        targets, in_goal, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies, centre_first=True)
+        targets, in_goal, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies, centre_first=True,
+                                                                        hold=holding)
         # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)
         # near a random walker: each move's chance of being caught (used by the ranking and by
         # a cornered robot's last resort)
@@ -333,7 +342,7 @@ class CatSwarmController(Controller):
         if self.evasion_ is not None and self.forecast_ is not None:
             walker_risk = self.evasion_.move_risk(cells, obs.obstacle_positions)
         valid, in_danger, threatened, safety, warning, tier, cornered = self._obstacle_rules(
-            obs, cells, copies, targets, in_goal, valid, walker_risk)
+            obs, cells, copies, targets, in_goal, valid, walker_risk, at_goal)
         # steps 1-5: collision detection, mixture split, trace robots seeing obstacles seek
         seek, trace = self._behaviours(obs, active, remaining)
         tie13 = K.tie_break_eq13(targets, goals)
@@ -374,7 +383,7 @@ class CatSwarmController(Controller):
         events += no_escape_events(in_danger & (choice == K.STAY), cornered)
         pushed = ((result.flags & PUSHED) != 0) & (choice != K.STAY)
         self.pushes_ += pushed
-        modes = np.where(at_goal, "arrived", "follow").astype(object)
+        modes = np.where(obs.at_goal, "arrived", np.where(at_goal, "wait", "follow")).astype(object)
         modes[trace] = "trace"
         modes[trace & (choice == K.STAY)] = "wait"
         modes[seek & active] = "seek"
@@ -384,7 +393,7 @@ class CatSwarmController(Controller):
         modes[in_danger] = "escape"
         return Decision(new, modes.tolist(), events)
 
-    def _obstacle_rules(self, obs, cells, copies, targets, in_goal_cell, valid, walker_risk=None):
+    def _obstacle_rules(self, obs, cells, copies, targets, in_goal_cell, valid, walker_risk=None, at_goal=None):
         """Step 6.3 for moving obstacles plus our look-ahead, for the robots an obstacle can
         reach (windows of :func:`~swarmpath.control.hazards.hazard_windows`); ``walker_risk``
         (n, 9): the walker-evasion risk of every move, or None without walkers. Returns (valid
@@ -392,7 +401,8 @@ class CatSwarmController(Controller):
         None, tier (n, 9): the look-ahead's rank of each candidate times TIER_SPAN plus
         :func:`~swarmpath.control.hazards.cornered_penalty`, 0 the most cautious; for a
         cornered robot the order of :func:`~swarmpath.control.cornered.last_resort`, cornered
-        (n,): those robots)."""
+        (n,): those robots). ``at_goal`` (n,): the robots counted as home (default: those on
+        their exact goals)."""
         n = len(cells)
         in_danger = np.zeros(n, bool)
         threatened = np.zeros(n, bool)
@@ -412,7 +422,17 @@ class CatSwarmController(Controller):
         v = valid[r] & ~hz.at(hz.covered[0], dest)  # never where an obstacle may be next step
         in_danger[r] = hz.at(hz.covered[0], cells[r])
         off_centre = np.linalg.norm(pos[r] - self.grid_.centers(cells[r]), axis=1) > 1e-9
-        check = np.flatnonzero(in_danger[r] | off_centre)
+        if fc.centre_cover:
+            # a disc robot's cell counts as covered by its centre only: one resting or ending
+            # its move off the centre (an exact goal) is checked where it rests
+            cen = self.grid_.centers(dest.reshape(-1, 2)).reshape(dest.shape[0], 9, 2)
+            k, c = np.nonzero(np.abs(targets[r] - cen).max(axis=-1) > 1e-9)
+            if len(k):
+                v[k, c] &= ~fc.sweep_hits(targets[r[k], c], obs.obstacle_positions, obs.obstacle_previous)
+            off = np.flatnonzero(off_centre)
+            if len(off):
+                in_danger[r[off]] |= fc.sweep_hits(pos[r[off]], obs.obstacle_positions, obs.obstacle_previous)
+        check = np.flatnonzero(in_danger[r] | off_centre | fc.centre_cover)   # disc robots: every move
         if len(check):
             v[check] &= ~fc.crossings(pos[r[check]], targets[r[check]], obs.obstacle_positions)
         # look-ahead: keep to the most cautious tier that leaves the robot some choice; a robot
@@ -423,7 +443,8 @@ class CatSwarmController(Controller):
         exits = np.where(odd[..., None], self.cells_.goal_moves[r][:, None, :], exits)
         # a robot without progress for `patience` steps looks ahead less: among obstacles that
         # may head anywhere the deepest tiers can hold it in a safe pocket for good
-        stalled = (self.monitor_.since[r] >= self.relax_after) & ~obs.at_goal[r]
+        at_goal = obs.at_goal if at_goal is None else at_goal
+        stalled = (self.monitor_.since[r] >= self.relax_after) & ~at_goal[r]
         base = v.copy()
         v, threat, rank, ways = hz.tiers(base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
                                                               self.lookahead), exits, fallback=in_danger[r])

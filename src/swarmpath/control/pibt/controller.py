@@ -25,7 +25,7 @@ from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
-from swarmpath.control.finish import finishing_step, gathering_step
+from swarmpath.control.finish import finishing_step, gathering_step, off_centre_discs
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -115,7 +115,9 @@ class PIBTController(Controller):
         With moving obstacles: on a step on which every robot can step onto its goal at once
         without any contact, all do, and the run ends (True; see
         :mod:`swarmpath.control.finish`). Robots wait beside goals an obstacle may enter next
-        step, so otherwise they are seldom all home at one moment.
+        step, so otherwise they are seldom all home at one moment. Also, in any world: disc
+        robots whose goals lie off their cells' centres wait on the centres and step home
+        with this step (:func:`~swarmpath.control.finish.off_centre_discs`).
     hover : int or None
         With ``leave_early`` >= 2: within this many cells (Chebyshev) of its goal a robot
         keeps only the next step clear (as with ``leave_early=1``): 0 keeps robots on their
@@ -207,6 +209,10 @@ class PIBTController(Controller):
         self.goals_ = world.goals
         self.goal_cells_ = self._cells(self.goals_)
         self.goal_ok_ = grid.is_free(self.goal_cells_) if n else np.zeros(0, bool)
+        # disc robots with goals off the centre wait on it and step home with the finish
+        self.hold_ = off_centre_discs(world, grid.centers(self.goal_cells_)) if self.finish_together \
+            else np.zeros(n, bool)
+        self.holding_ = self.hold_
         self.handles_ = np.full(n, -1, np.int64)          # table of each robot, -1: none held
         self.base_ = rng.random(n)                        # fractional parts of the priorities
         self.priority_ = self.base_.copy()
@@ -261,7 +267,7 @@ class PIBTController(Controller):
         reach = self.reach_[rows, None] * (1 + 1e-9) + 1e-12
         dest = cells[:, None, :] + GRID_MOVES[None]
         targets = self.grid_.centers(dest)
-        to_goal = np.all(dest == self.goal_cells_[rows, None, :], axis=2)
+        to_goal = np.all(dest == self.goal_cells_[rows, None, :], axis=2) & ~self.holding_[rows, None]
         goal_t = np.broadcast_to(self.goals_[rows, None, :], targets.shape)
         goal_reach = np.linalg.norm(goal_t - pos[:, None, :], axis=2) <= reach
         targets = np.where((to_goal & goal_reach)[..., None], goal_t, targets)
@@ -275,19 +281,22 @@ class PIBTController(Controller):
         if self.forecast_ is not None:
             self.forecast_.at_step(obs.step, obs.obstacle_positions)   # turn-every, waypoints
             self.lingering_.update(self.forecast_, obs.obstacle_positions)
-        if self.finish_together and self.forecast_ is not None:
+        if self.finish_together and (self.forecast_ is not None or self.hold_.any()):
             done = finishing_step(self.world_, obs)
-            if done is None and self.gather:
+            if done is None and self.gather and self.forecast_ is not None:
                 done = gathering_step(self.world_, obs, self.forecast_, self.grid_, self.moves_, 1 + self.lookahead)
             if done is not None:
                 return done
         cells = self._cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
+        # once every robot is in its goal cell and the finish still fails, each goes home alone
+        self.holding_ = self.hold_ & ~in_goal_cell.all()
+        centre = self.grid_.centers(cells)
+        at_goal = obs.at_goal | (self.holding_ & in_goal_cell & (np.abs(pos - centre).max(axis=1) <= 1e-9))
         dist = self._distances(cells, in_goal_cell)
-        self.best_, self.since_ = progress_update(self.best_, self.since_, dist[:, STAY], obs.at_goal)
+        self.best_, self.since_ = progress_update(self.best_, self.since_, dist[:, STAY], at_goal)
         # most robots stand on a cell centre away from their goal: every move ends on a centre
         # within reach (diagonals need reach sqrt 2); the others are worked out exactly
-        centre = self.grid_.centers(cells)
         special = np.flatnonzero((np.abs(pos - centre).max(axis=1) > 1e-9)
                                  | (np.abs(cells - self.goal_cells_).max(axis=1) <= 1))
         allowed = ~np.isnan(dist) & (self.diag_ok_[:, None] | ~DIAGONAL_MOVE[None, :])
@@ -316,9 +325,14 @@ class PIBTController(Controller):
             dest = cells[rows, None, :] + GRID_MOVES[None]
             allowed[rows] &= ~hz.at(hz.covered[0], dest)
             urgent[rows] = hz.at(hz.covered[0], cells[rows])
+            if self.forecast_.centre_cover:
+                # a disc robot off a cell centre (an exact goal) is checked where it rests
+                self._off_centre_sweeps(obs, pos, centre, special, special_targets, allowed, urgent)
             # a robot an obstacle already reaches, or off its cell centre, may cut through the
-            # obstacle where it stands during the move (an obstacle off the grid, a diagonal)
-            check = rows[urgent[rows] | (np.abs(pos[rows] - centre[rows]).max(axis=1) > 1e-9)]
+            # obstacle where it stands during the move (an obstacle off the grid, a diagonal);
+            # so may any disc robot, whose cells count as covered by their centres only
+            check = rows[urgent[rows] | (np.abs(pos[rows] - centre[rows]).max(axis=1) > 1e-9)
+                         | self.forecast_.centre_cover]
             if len(check):
                 reach_targets, _ = self._targets(pos, cells, check)
                 allowed[check] &= ~self.forecast_.crossings(pos[check], reach_targets, obs.obstacle_positions)
@@ -381,7 +395,7 @@ class PIBTController(Controller):
                 allowed[stuck] = ok
                 dist[stuck] = np.where(ok, np.nan_to_num(goal_dist[stuck]) + LAST_RESORT_WEIGHT * cost, np.nan)
                 ranks[stuck] = 0
-        self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
+        self.priority_ = update_priorities(self.priority_, at_goal, self.base_)
         # robots that must or should leave their cell first, the most constrained first
         order = decision_order(self.priority_, urgent | threatened, allowed.sum(axis=1))
         tie = self.rng_.random((n, 9))
@@ -408,6 +422,22 @@ class PIBTController(Controller):
         modes = np.where(arrived, "arrived", np.where(moves == STAY, "wait", "move")).astype(object)
         modes[pushed] = "pushed"
         return Decision(new, modes.tolist(), events)
+
+    def _off_centre_sweeps(self, obs: Observation, pos: FloatArray, centre: FloatArray, special: NDArray[np.int64],
+                           special_targets: FloatArray, allowed: NDArray[np.bool_], urgent: NDArray[np.bool_]) -> None:
+        """Disc robots (centre cover): forbid moves that end off a cell centre where an
+        obstacle's next sweep may reach, and mark robots resting off-centre within such reach
+        urgent (in place)."""
+        fc = self.forecast_
+        dest_centres = self.grid_.centers(self._cells(special_targets.reshape(-1, 2))).reshape(special_targets.shape)
+        odd = np.abs(special_targets - dest_centres).max(axis=-1) > 1e-9
+        r, c = np.nonzero(odd)
+        if len(r):
+            hit = fc.sweep_hits(special_targets[r, c], obs.obstacle_positions, obs.obstacle_previous)
+            allowed[special[r[hit]], c[hit]] = False
+        off = np.flatnonzero(np.abs(pos - centre).max(axis=1) > 1e-9)
+        if len(off):
+            urgent[off] |= fc.sweep_hits(pos[off], obs.obstacle_positions, obs.obstacle_previous)
 
     def _exact_check(self, pos: FloatArray, new: FloatArray, cells: NDArray[np.int64]) -> list[int]:
         """Robots whose move starts or ends off a cell centre are checked exactly
