@@ -31,12 +31,42 @@ FloatArray = NDArray[np.float64]
 
 
 def off_centre_discs(world: World, goal_centres: FloatArray) -> NDArray[np.bool_]:
-    """Disc robots whose exact goal lies off its cell's centre (``goal_centres`` (n, 2)). A
-    controller with the finishing step lets them wait on the centre and step onto the goal
-    with the others at the end: resting off the centre, a disc reaches into the next cells,
-    where the centre-to-centre move rules of its neighbours do not see it, and a neighbour
-    whose move it would graze is held back step after step (a deadlock)."""
+    """Disc robots whose exact goal lies off its cell's centre (``goal_centres`` (n, 2)).
+    Resting off the centre, a disc reaches into the next cells, where the centre-to-centre
+    move rules of its neighbours do not see it, and a neighbour whose move it would graze is
+    held back step after step (a deadlock). So while other robots are near (:func:`held_discs`)
+    such a robot waits on its goal cell's centre; the finishing step or a quiet moment takes
+    it onto the goal."""
     return (world.radii > 0) & (np.linalg.norm(world.goals - goal_centres, axis=1) > 1e-9)
+
+
+#: A robot resting off its cell's centre can be grazed only by robots whose moves start within
+#: this many cells (Chebyshev) of its cell: moves are one cell long.
+HOLD_REACH = 2
+
+
+def held_discs(hold: NDArray[np.bool_], cells: NDArray[np.int64], goal_cells: NDArray[np.int64],
+               shape: tuple[int, int]) -> NDArray[np.bool_]:
+    """The robots of ``hold`` (n,) (:func:`off_centre_discs`) that wait on their goal cell's
+    centre this step: another robot is within ``HOLD_REACH`` cells of them (``cells`` (n, 2),
+    x and y, on a grid of ``shape`` (height, width)), and not every robot is in its goal cell
+    (then each goes home; no one passes any more)."""
+    out = np.asarray(hold, bool).copy()
+    if not out.any() or np.all(cells == goal_cells):
+        return np.zeros_like(out)
+    h, w = shape
+    c = np.clip(np.asarray(cells, np.int64), 0, [w - 1, h - 1])
+    count = np.zeros((h + 1, w + 1), np.int64)
+    np.add.at(count, (c[:, 1] + 1, c[:, 0] + 1), 1)
+    table = count.cumsum(0).cumsum(1)
+    rows = np.flatnonzero(out)
+    x0 = np.clip(c[rows, 0] - HOLD_REACH, 0, w)
+    x1 = np.clip(c[rows, 0] + HOLD_REACH + 1, 0, w)
+    y0 = np.clip(c[rows, 1] - HOLD_REACH, 0, h)
+    y1 = np.clip(c[rows, 1] + HOLD_REACH + 1, 0, h)
+    near = table[y1, x1] - table[y0, x1] - table[y1, x0] + table[y0, x0]
+    out[rows] = near > 1          # itself and at least one other
+    return out
 
 
 def finish_positions(world: World, obs: Observation) -> FloatArray | None:

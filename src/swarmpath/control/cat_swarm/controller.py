@@ -46,7 +46,7 @@ from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
-from swarmpath.control.finish import finishing_step, gathering_step, off_centre_discs
+from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
     ObstacleForecast,
@@ -120,8 +120,8 @@ class CatSwarmController(Controller):
         landmarks : landmark cells of the lazy distance tables ("auto", see ``pibt``).
         finish_together : with moving obstacles, all robots step onto their goals at once
             when that step has no contact, which ends the run (True; see ``pibt`` and
-            :mod:`swarmpath.control.finish`); in any world, disc robots whose goals lie off
-            their cells' centres wait on the centres and step home with that step.
+            :mod:`swarmpath.control.finish`); also in worlds without them when disc robots'
+            goals lie off their cells' centres (those wait on the centres while others are near).
         hover : within this many cells of its goal a robot keeps only the next step clear
             instead of ``leave_early`` steps (None: nowhere; 0: on its goal; see ``pibt``).
         evasion_horizon, evasion_weight : with random walkers, a robot near one ranks its
@@ -217,9 +217,8 @@ class CatSwarmController(Controller):
         self.goal_cells_ = cells.goal_cells
         self.goal_flat_ = (cells.goal_cells[:, 1] * self.width_ + cells.goal_cells[:, 0]).astype(np.int32)
         self.goal_ok_ = cells.grid.is_free(cells.goal_cells) if n else np.zeros(0, bool)
-        # disc robots with goals off the centre wait on it and step home with the finish
-        self.hold_ = off_centre_discs(world, cells.grid.centers(cells.goal_cells)) if self.finish_together \
-            else np.zeros(n, bool)
+        # disc robots with goals off the centre wait on it while others are near (finish.py)
+        self.hold_ = off_centre_discs(world, cells.grid.centers(cells.goal_cells))
         radius = float(world.radii.max(initial=0.0))
         self.graph_ = GridGraph.build(blocked, 8, radius, world.resolution)
         self.tables_ = LazyDistanceTables(blocked, connectivity=8,
@@ -317,8 +316,8 @@ class CatSwarmController(Controller):
         rows = np.arange(n)
         cells = self.cells_.cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
-        # once every robot is in its goal cell and the finish still fails, each goes home alone
-        holding = self.hold_ & ~in_goal_cell.all()
+        # discs with goals off the centre wait on it while other robots are near (finish.py)
+        holding = held_discs(self.hold_, cells, self.goal_cells_, (self.height_, self.width_))
         at_goal = obs.at_goal | (holding & in_goal_cell
                                  & (np.abs(pos - self.grid_.centers(cells)).max(axis=1) <= 1e-9))
         active = ~at_goal

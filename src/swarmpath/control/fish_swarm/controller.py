@@ -43,6 +43,7 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
+from swarmpath.control.finish import held_discs, off_centre_discs
 from swarmpath.control.fish_swarm.behaviours import (
     ARRIVED,
     FOOD_MODELS,
@@ -178,6 +179,11 @@ class FishSwarmController(Controller):
         self.goal_flat_ = (cells[:, 1] * grid.width + cells[:, 0]).astype(np.int32)
         self.base_ = rng.spawn(1)[0].random(n)
         self.priority_ = self.base_.copy()
+        # disc robots with goals off the centre wait on it while other robots are near
+        # (control/finish.py): resting on the goal they would graze their neighbours' moves
+        goal_centres = np.array([g.centers(c) for g, c in zip(self.grids_, self.goal_cells_)], float).reshape(-1, 2)
+        self.hold_ = off_centre_discs(world, goal_centres) if n > 1 else np.zeros(n, bool)
+        self.holding_ = self.hold_
 
     def _food(self, i: int, cells: IntArray) -> FloatArray:
         grid = self.grids_[i]
@@ -198,6 +204,14 @@ class FishSwarmController(Controller):
         modes = [WAIT] * n
         events: list[dict] = []
         near = _CellIndex(self.grids_[0].cell_of(pos)) if n > 1 else None
+        at_goal = obs.at_goal
+        if self.hold_.any():
+            cells = np.array([g.cell_of(q) for g, q in zip(self.grids_, pos)], np.int64).reshape(-1, 2)
+            goal_cells = np.asarray(self.goal_cells_, np.int64).reshape(-1, 2)
+            in_goal_cell = np.all(cells == goal_cells, axis=1)
+            self.holding_ = held_discs(self.hold_, cells, goal_cells, self.grids_[0].blocked.shape)
+            centres = np.array([g.centers(c) for g, c in zip(self.grids_, cells)], float).reshape(-1, 2)
+            at_goal = at_goal | (self.holding_ & in_goal_cell & (np.abs(pos - centres).max(axis=1) <= 1e-9))
         for i in range(n):
             modes[i] = self._rank(i, obs, obstacles, n_fish, near, rank[i], allowed[i], targets[i], food[i], events)
         allowed[:, STAY] = True   # waiting is always possible
@@ -205,8 +219,8 @@ class FishSwarmController(Controller):
             choice = np.array([int(np.argmin(rank[0]))])
             pushed = np.zeros(1, bool)
         else:
-            self.priority_ = update_priorities(self.priority_, obs.at_goal, self.base_)
-            active = np.flatnonzero(~obs.at_goal)
+            self.priority_ = update_priorities(self.priority_, at_goal, self.base_)
+            active = np.flatnonzero(~at_goal)
             if len(active):
                 # the robot of highest priority ranks by food first (its own cell included), the
                 # behaviour's order among equal food: PIBT's ranking, under which it surely
@@ -250,15 +264,16 @@ class FishSwarmController(Controller):
         centre = grid.centers(cell)
         if several:
             food9[STAY] = self._food(i, cell[None])[0]
-        if np.linalg.norm(p - goal) <= 1e-9:
+        parked = self.holding_[i] and np.array_equal(cell, self.goal_cells_[i]) and np.linalg.norm(p - centre) <= 1e-9
+        if (np.linalg.norm(p - goal) <= 1e-9 and not self.holding_[i]) or parked:
             rank[STAY] = 0.0
             if several:   # parked: where it goes if another robot must pass
                 self._fallback(i, p, cell, obs, obstacles, rank, allowed, targets, food9, start=1.0)
-            return ARRIVED
+            return WAIT if parked else ARRIVED
         if np.array_equal(cell, self.goal_cells_[i]) or np.linalg.norm(p - centre) > 1e-9:
-            # in the goal cell: step onto the exact goal point; off a cell centre (start of the
-            # run): align first
-            to = goal if np.array_equal(cell, self.goal_cells_[i]) else centre
+            # in the goal cell: step onto the exact goal point (a held disc: onto the centre);
+            # off a cell centre (start of the run): align first
+            to = goal if np.array_equal(cell, self.goal_cells_[i]) and not self.holding_[i] else centre
             ok, exposure = self._feasible(i, p, np.stack([to, p]), obstacles)
             rank[STAY] = 0.0
             go = bool(ok[0] and exposure[0] <= exposure[1])
@@ -346,7 +361,7 @@ class FishSwarmController(Controller):
         rank[slots] = start + 1.0 + np.arange(len(slots))
 
     def _held(self, pos: FloatArray, new: FloatArray) -> list[int]:
-        """Robots to hold in place after the exact check: moves that start or end off a cell
+        """Robots to hold in place after the exact check: robots resting or moving off a cell
         centre, and every move when a robot is wider than half a cell (the core's table
         covers centre-to-centre moves of discs up to half a cell)."""
         grid = self.grids_[0]
@@ -355,7 +370,8 @@ class FishSwarmController(Controller):
         moving = np.any(new != pos, axis=1)
         odd = (np.linalg.norm(pos - grid.centers(grid.cell_of(pos)), axis=1) > 1e-9) | \
             (np.linalg.norm(new - grid.centers(grid.cell_of(new)), axis=1) > 1e-9)
-        check = np.flatnonzero(moving & (odd | wide))
+        # a robot resting off a centre is checked too: a neighbour's move between centres may graze it
+        check = np.flatnonzero(odd | (moving & wide))
         reach = 3 * res + 2 * float(self.radii_.max(initial=0.0))
         return hold_conflicts(pos, new, self.radii_, res, check, reach)
 

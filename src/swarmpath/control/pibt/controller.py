@@ -25,7 +25,7 @@ from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
-from swarmpath.control.finish import finishing_step, gathering_step, off_centre_discs
+from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -115,9 +115,9 @@ class PIBTController(Controller):
         With moving obstacles: on a step on which every robot can step onto its goal at once
         without any contact, all do, and the run ends (True; see
         :mod:`swarmpath.control.finish`). Robots wait beside goals an obstacle may enter next
-        step, so otherwise they are seldom all home at one moment. Also, in any world: disc
-        robots whose goals lie off their cells' centres wait on the centres and step home
-        with this step (:func:`~swarmpath.control.finish.off_centre_discs`).
+        step, so otherwise they are seldom all home at one moment. Also in worlds without
+        them when disc robots' goals lie off their cells' centres: such robots wait on the
+        centres while others are near (:func:`~swarmpath.control.finish.held_discs`).
     hover : int or None
         With ``leave_early`` >= 2: within this many cells (Chebyshev) of its goal a robot
         keeps only the next step clear (as with ``leave_early=1``): 0 keeps robots on their
@@ -209,9 +209,8 @@ class PIBTController(Controller):
         self.goals_ = world.goals
         self.goal_cells_ = self._cells(self.goals_)
         self.goal_ok_ = grid.is_free(self.goal_cells_) if n else np.zeros(0, bool)
-        # disc robots with goals off the centre wait on it and step home with the finish
-        self.hold_ = off_centre_discs(world, grid.centers(self.goal_cells_)) if self.finish_together \
-            else np.zeros(n, bool)
+        # disc robots with goals off the centre wait on it while others are near (finish.py)
+        self.hold_ = off_centre_discs(world, grid.centers(self.goal_cells_))
         self.holding_ = self.hold_
         self.handles_ = np.full(n, -1, np.int64)          # table of each robot, -1: none held
         self.base_ = rng.random(n)                        # fractional parts of the priorities
@@ -289,8 +288,8 @@ class PIBTController(Controller):
                 return done
         cells = self._cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
-        # once every robot is in its goal cell and the finish still fails, each goes home alone
-        self.holding_ = self.hold_ & ~in_goal_cell.all()
+        # discs with goals off the centre wait on it while other robots are near (finish.py)
+        self.holding_ = held_discs(self.hold_, cells, self.goal_cells_, (self.height_, self.width_))
         centre = self.grid_.centers(cells)
         at_goal = obs.at_goal | (self.holding_ & in_goal_cell & (np.abs(pos - centre).max(axis=1) <= 1e-9))
         dist = self._distances(cells, in_goal_cell)
