@@ -514,3 +514,33 @@ def test_sweep_hits_is_the_checkers_phase_one_for_robots_off_centre(radius):
         hit += len(actual)
     assert hit > 0
     assert flagged < 12 * hit             # the worst case of a walker's 9 moves, not a blanket
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.3, 0.5])
+def test_crossings_is_the_checkers_phase_two(radius):
+    """:meth:`ObstacleForecast.crossings` against the checker's phase 2 (robots move among the
+    obstacles where they stand) for moves from random points: the same answer for every move
+    of a disc robot and for point robots among boxes; for point robots among discs it may
+    also forbid moves through the bounding box's corners, never allow one that meets the
+    disc. (Seed 7 of the 64 x 64 world with discs of radius 0.3: a robot resting on its goal
+    in the corner of an obstacle's box grown by the radius, clear of the obstacle, was denied
+    every move, the obstacle's next step hit it.)"""
+    from swarmpath.sim.collisions import robot_moving_contacts
+
+    world, path = _simulated_obstacles(5, 1)
+    fc = H.ObstacleForecast(world, world.grid(), robot_radius=radius)
+    rng = np.random.default_rng(2)
+    here = path[1].reshape(-1, 2)
+    starts = here[rng.integers(len(here), size=3000)] + rng.uniform(-1.6, 1.6, (3000, 2))
+    ends = starts + GRID_MOVES[rng.integers(0, 9, size=3000)]
+    said = fc.crossings(starts, ends[:, None, :], here)[:, 0]
+    hit = np.zeros(len(starts), bool)
+    for i, _, _ in robot_moving_contacts(world, starts, ends, here, here, np.full(len(starts), radius)):
+        hit[i] = True
+    boxes = np.array([not isinstance(o.shape, Circle) for o in world.moving_obstacles])
+    assert hit.sum() > 100 and (~hit).sum() > 100
+    assert not (hit & ~said).any()
+    if radius > 0 or boxes.all():
+        assert np.array_equal(said, hit)
+    else:
+        assert (said & ~hit).any()

@@ -540,10 +540,13 @@ class ObstacleForecast:
         return hit.reshape(pts.shape[:-1])
 
     def crossings(self, starts: FloatArray, ends: FloatArray, positions: FloatArray) -> BoolArray:
-        """Whether each move starts[r] -> ends[r, c] (shapes (k, 2) and (k, c, 2)) passes
-        through the interior of an obstacle's bounding box (grown by the robots' radius)
-        where it stands now (exact for point robots; used for robots whose cell an obstacle
-        already covers or that rest off a cell centre)."""
+        """Whether each move starts[r] -> ends[r, c] (shapes (k, 2) and (k, c, 2)) meets an
+        obstacle where it stands now: for point robots, passes through the interior of its
+        bounding box (exact for boxes); for disc robots, comes closer to its footprint than the
+        radius (the checker's phase-2 rule, :func:`~swarmpath.world.move_rules.footprint_hits`:
+        the box grown by the radius would also forbid moves that start in its corners, away
+        from the footprint). Used for robots whose cell an obstacle already covers, that rest
+        off a cell centre, and for every disc robot near an obstacle."""
         from swarmpath.world.geometry import segment_crosses_open_box
 
         k, c = ends.shape[:2]
@@ -558,8 +561,12 @@ class ObstacleForecast:
                 continue
             a = np.repeat(starts[near], c, axis=0)
             b = ends[near].reshape(-1, 2)
-            lo, hi = p[j] + self.keep_lo[j], p[j] + self.keep_hi[j]
-            bad[near] |= segment_crosses_open_box(a, b, lo, hi).reshape(len(near), c)
+            if self.centre_cover:
+                shape = self.world.moving_obstacles[j].placed((0.0, 0.0))
+                hit = footprint_hits(shape, a - p[j], b - p[j], np.full(len(a), self.robot_radius))
+            else:
+                hit = segment_crosses_open_box(a, b, p[j] + self.keep_lo[j], p[j] + self.keep_hi[j])
+            bad[near] |= hit.reshape(len(near), c)
         return bad
 
 
