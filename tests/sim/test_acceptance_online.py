@@ -198,8 +198,8 @@ def test_disc_robots_among_20_moving_obstacles_all_home(controller) -> None:
     """The same world with disc robots of radius 0.3 whose goals lie up to 0.15 off their
     cells' centres: seeds 0-3, every one a success with the checks above. Cells count as
     covered by their centres for discs; with the square rule of point robots a 3 x 3 block
-    around every obstacle was shut to them and no run brought every robot home (pibt and
-    cat-swarm: 0 of 10 seeds, docs/algorithms/pibt.md)."""
+    around every obstacle was shut to them and no run brought every robot home, even with
+    goals on the centres (pibt and cat-swarm: 0 of 10 seeds, docs/algorithms/pibt.md)."""
     for seed in range(4):
         traj, success = checked_run(controller, seed, world_args={"radius": 0.3, "goal_offset": 0.15})
         assert success, (controller, seed, traj.status, len(traj.contacts))
