@@ -69,6 +69,14 @@ def held_discs(hold: NDArray[np.bool_], cells: NDArray[np.int64], goal_cells: ND
     return out
 
 
+def waiting_home(at_goal: NDArray[np.bool_], holding: NDArray[np.bool_], in_goal_cell: NDArray[np.bool_],
+                 pos: FloatArray, centres: FloatArray) -> NDArray[np.bool_]:
+    """The robots that count as home (n,): on their goals (``at_goal``), or held
+    (:func:`held_discs`) and waiting on their goal cell's centre (``centres`` (n, 2), the
+    centres of the robots' cells)."""
+    return at_goal | (holding & in_goal_cell & (np.abs(pos - centres).max(axis=1) <= 1e-9))
+
+
 def finish_positions(world: World, obs: Observation) -> FloatArray | None:
     """Every robot's goal (n, 2) when all robots can end this step on their goals without any
     contact of the robots' move (phase 2 of the step, the simulator's own rules); else None.
@@ -194,8 +202,7 @@ def gathering_positions(world: World, obs: Observation, forecast, grid, moves: N
     ok &= ~world.static_hits(flat_t, flat_g, np.repeat(radii, 9)).reshape(n, 9)
     ok &= ~forecast.crossings(pos, targets, obs.obstacle_positions)
     if forecast.centre_cover:   # disc robots: a cell speaks for its centre only
-        odd = np.abs(targets - grid.centers(dest)).max(axis=-1) > 1e-9
-        ok[odd] &= ~forecast.sweep_hits(targets[odd], obs.obstacle_positions, obs.obstacle_previous)
+        ok &= ~forecast.off_centre_hits(targets, grid.centers(dest), obs.obstacle_positions, obs.obstacle_previous)
     if not ok.any(axis=1).all():
         return None
     # one cell each, the most constrained robot first; moves now must not conflict

@@ -539,6 +539,17 @@ class ObstacleForecast:
                 hit[near] |= footprint_hits(shape, flat[near] - p[j], flat[near] - q, r)
         return hit.reshape(pts.shape[:-1])
 
+    def off_centre_hits(self, points: FloatArray, centres: FloatArray, positions: FloatArray,
+                        previous: FloatArray) -> BoolArray:
+        """:meth:`sweep_hits` for the entries of ``points`` (..., 2) that lie off their cell
+        centres ``centres`` (same shape); False for the others, which the cover speaks for."""
+        pts = np.asarray(points, float)
+        odd = np.abs(pts - np.asarray(centres, float)).max(axis=-1) > 1e-9
+        out = np.zeros(odd.shape, bool)
+        if odd.any():
+            out[odd] = self.sweep_hits(pts[odd], positions, previous)
+        return out
+
     def crossings(self, starts: FloatArray, ends: FloatArray, positions: FloatArray) -> BoolArray:
         """Whether each move starts[r] -> ends[r, c] (shapes (k, 2) and (k, c, 2)) meets an
         obstacle where it stands now: for point robots, passes through the interior of its

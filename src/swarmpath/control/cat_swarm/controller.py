@@ -46,7 +46,7 @@ from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
-from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs
+from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs, waiting_home
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
     ObstacleForecast,
@@ -318,8 +318,7 @@ class CatSwarmController(Controller):
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
         # discs with goals off the centre wait on it while other robots are near (finish.py)
         holding = held_discs(self.hold_, cells, self.goal_cells_, (self.height_, self.width_))
-        at_goal = obs.at_goal | (holding & in_goal_cell
-                                 & (np.abs(pos - self.grid_.centers(cells)).max(axis=1) <= 1e-9))
+        at_goal = waiting_home(obs.at_goal, holding, in_goal_cell, pos, self.grid_.centers(cells))
         active = ~at_goal
         # step 6.1-6.2: the seeking memory pool, 9 candidate cells per robot, and eq. 12
         copies = K.seek_copies(cells, srd=self.seeking_range)
@@ -424,13 +423,10 @@ class CatSwarmController(Controller):
         if fc.centre_cover:
             # a disc robot's cell counts as covered by its centre only: one resting or ending
             # its move off the centre (an exact goal) is checked where it rests
+            now, before = obs.obstacle_positions, obs.obstacle_previous
             cen = self.grid_.centers(dest.reshape(-1, 2)).reshape(dest.shape[0], 9, 2)
-            k, c = np.nonzero(np.abs(targets[r] - cen).max(axis=-1) > 1e-9)
-            if len(k):
-                v[k, c] &= ~fc.sweep_hits(targets[r[k], c], obs.obstacle_positions, obs.obstacle_previous)
-            off = np.flatnonzero(off_centre)
-            if len(off):
-                in_danger[r[off]] |= fc.sweep_hits(pos[r[off]], obs.obstacle_positions, obs.obstacle_previous)
+            v &= ~fc.off_centre_hits(targets[r], cen, now, before)
+            in_danger[r] |= fc.off_centre_hits(pos[r], self.grid_.centers(cells[r]), now, before)
         check = np.flatnonzero(in_danger[r] | off_centre | fc.centre_cover)   # disc robots: every move
         if len(check):
             v[check] &= ~fc.crossings(pos[r[check]], targets[r[check]], obs.obstacle_positions)

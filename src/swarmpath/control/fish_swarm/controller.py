@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 
 from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
-from swarmpath.control.finish import held_discs, off_centre_discs
+from swarmpath.control.finish import held_discs, off_centre_discs, waiting_home
 from swarmpath.control.fish_swarm.behaviours import (
     ARRIVED,
     FOOD_MODELS,
@@ -211,7 +211,7 @@ class FishSwarmController(Controller):
             in_goal_cell = np.all(cells == goal_cells, axis=1)
             self.holding_ = held_discs(self.hold_, cells, goal_cells, self.grids_[0].blocked.shape)
             centres = np.array([g.centers(c) for g, c in zip(self.grids_, cells)], float).reshape(-1, 2)
-            at_goal = at_goal | (self.holding_ & in_goal_cell & (np.abs(pos - centres).max(axis=1) <= 1e-9))
+            at_goal = waiting_home(at_goal, self.holding_, in_goal_cell, pos, centres)
         for i in range(n):
             modes[i] = self._rank(i, obs, obstacles, n_fish, near, rank[i], allowed[i], targets[i], food[i], events)
         allowed[:, STAY] = True   # waiting is always possible

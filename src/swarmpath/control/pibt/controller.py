@@ -25,7 +25,7 @@ from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
 from swarmpath.control.evasion import EvasionRisk, check_evasion
-from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs
+from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs, waiting_home
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -291,7 +291,7 @@ class PIBTController(Controller):
         # discs with goals off the centre wait on it while other robots are near (finish.py)
         self.holding_ = held_discs(self.hold_, cells, self.goal_cells_, (self.height_, self.width_))
         centre = self.grid_.centers(cells)
-        at_goal = obs.at_goal | (self.holding_ & in_goal_cell & (np.abs(pos - centre).max(axis=1) <= 1e-9))
+        at_goal = waiting_home(obs.at_goal, self.holding_, in_goal_cell, pos, centre)
         dist = self._distances(cells, in_goal_cell)
         self.best_, self.since_ = progress_update(self.best_, self.since_, dist[:, STAY], at_goal)
         # most robots stand on a cell centre away from their goal: every move ends on a centre
@@ -326,7 +326,10 @@ class PIBTController(Controller):
             urgent[rows] = hz.at(hz.covered[0], cells[rows])
             if self.forecast_.centre_cover:
                 # a disc robot off a cell centre (an exact goal) is checked where it rests
-                self._off_centre_sweeps(obs, pos, centre, special, special_targets, allowed, urgent)
+                fc, now, before = self.forecast_, obs.obstacle_positions, obs.obstacle_previous
+                ends = self.grid_.centers(self._cells(special_targets.reshape(-1, 2))).reshape(special_targets.shape)
+                allowed[special] &= ~fc.off_centre_hits(special_targets, ends, now, before)
+                urgent |= fc.off_centre_hits(pos, centre, now, before)
             # a robot an obstacle already reaches, or off its cell centre, may cut through the
             # obstacle where it stands during the move (an obstacle off the grid, a diagonal);
             # so may any disc robot, whose cells count as covered by their centres only
@@ -421,22 +424,6 @@ class PIBTController(Controller):
         modes = np.where(arrived, "arrived", np.where(moves == STAY, "wait", "move")).astype(object)
         modes[pushed] = "pushed"
         return Decision(new, modes.tolist(), events)
-
-    def _off_centre_sweeps(self, obs: Observation, pos: FloatArray, centre: FloatArray, special: NDArray[np.int64],
-                           special_targets: FloatArray, allowed: NDArray[np.bool_], urgent: NDArray[np.bool_]) -> None:
-        """Disc robots (centre cover): forbid moves that end off a cell centre where an
-        obstacle's next sweep may reach, and mark robots resting off-centre within such reach
-        urgent (in place)."""
-        fc = self.forecast_
-        dest_centres = self.grid_.centers(self._cells(special_targets.reshape(-1, 2))).reshape(special_targets.shape)
-        odd = np.abs(special_targets - dest_centres).max(axis=-1) > 1e-9
-        r, c = np.nonzero(odd)
-        if len(r):
-            hit = fc.sweep_hits(special_targets[r, c], obs.obstacle_positions, obs.obstacle_previous)
-            allowed[special[r[hit]], c[hit]] = False
-        off = np.flatnonzero(np.abs(pos - centre).max(axis=1) > 1e-9)
-        if len(off):
-            urgent[off] |= fc.sweep_hits(pos[off], obs.obstacle_positions, obs.obstacle_previous)
 
     def _exact_check(self, pos: FloatArray, new: FloatArray, cells: NDArray[np.int64]) -> list[int]:
         """Robots whose move starts or ends off a cell centre are checked exactly
