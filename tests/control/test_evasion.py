@@ -9,7 +9,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from swarmpath.control.evasion import EVASION_RADIUS, EvasionRisk, WalkerEvasion, walker
+from swarmpath.control.evasion import EVASION_RADIUS, EvasionRisk, WalkerEvasion, walker, walker_vetoed
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.pibt.core import static_moves
 from swarmpath.errors import ConfigError
@@ -220,8 +220,96 @@ def test_controllers_run_the_same_with_evasion_off_when_no_walker_exists() -> No
 @pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
 @pytest.mark.parametrize("setting,value", [("evasion_horizon", -1), ("evasion_horizon", 2.5),
                                            ("evasion_horizon", True), ("evasion_weight", -1.0),
-                                           ("evasion_weight", float("nan")), ("evasion_weight", "high")])
+                                           ("evasion_weight", float("nan")), ("evasion_weight", "high"),
+                                           ("evasion_veto", "yes"), ("evasion_veto", 1)])
 def test_bad_evasion_settings_are_one_clear_error(controller, setting, value) -> None:
     world = walled_world(Rect((-0.5, -0.5), (0.5, 0.5)), 0.0)
     with pytest.raises(ConfigError, match=setting):
         CONTROLLERS.get(controller)(**{setting: value}).reset(world, None, np.random.default_rng(0))
+
+
+def test_the_tiers_may_not_pick_a_move_the_walker_value_rates_far_riskier() -> None:
+    """walker_vetoed leaves out exactly the allowed candidates whose risk exceeds both ten times
+    and 0.002 more than the safest allowed one; forbidden candidates and robots without a
+    walker (risk None) are never vetoed."""
+    risk = np.array([[0.0004, 1.0, 1.0, 0.0003, 1.0, 0.0068, 1.0, 0.0060, 1.0],      # the caught robot's numbers
+                     [0.0, 0.001, 0.0025, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],           # margin decides
+                     [0.2, 0.25, 0.5, 0.9, 1.0, 0.2, 0.2, 0.2, 0.2]])              # ratio decides
+    allowed = np.array([[1, 0, 0, 1, 0, 1, 0, 1, 0],
+                        [1, 1, 1, 0, 0, 0, 0, 0, 0],
+                        [0, 1, 1, 1, 1, 0, 0, 0, 0]], bool)
+    got = walker_vetoed(allowed, risk)
+    want = np.zeros_like(allowed)
+    want[0, [5, 7]] = True          # 0.0068 and 0.0060 > max(10 x 0.0003, 0.0003 + 0.002)
+    want[1, 2] = True               # 0.0025 > max(0, 0.002); 0.001 is not
+    want[2, 4] = False              # best allowed 0.25: 2.5 is the limit, nothing exceeds it
+    np.testing.assert_array_equal(got, want)
+    assert not walker_vetoed(allowed, None).any()
+    # the safest allowed candidate itself is never vetoed, whatever the numbers
+    rng = np.random.default_rng(1)
+    r = rng.random((500, 9)) ** 4
+    a = rng.random((500, 9)) < 0.6
+    a[:, 0] = True
+    v = walker_vetoed(a, r)
+    best = np.argmin(np.where(a, r, np.inf), axis=1)
+    assert not v[np.arange(500), best].any() and not (v & ~a).any()
+
+
+# A 1-wide corridor (x = 6) with a dead end beside it, (6, 5), (6, 6), (7, 6), whose only way out
+# is the corridor: the layout that caught a cat-swarm robot on the 64 x 64 acceptance world.
+POCKET_ROWS = [                       # top row first: y = 12 ... 0
+    ".....#.#.....",
+    "#............",
+    ".....#.#..#..",
+    ".......#..##.",
+    "#....#.#.#..#",
+    ".......#....#",
+    ".....#..#....",
+    ".....#.#.....",
+    "....#.#......",
+    ".....##....#.",
+    "..##.........",
+    "..#......#...",
+    ".......#.....",
+]
+POCKET = {(6, 5), (6, 6), (7, 6)}
+
+
+def pocket_world() -> World:
+    """The corridor and dead end above, a point robot at the pocket's mouth (6, 7) with its goal
+    at (3, 6), and a random walker at (3, 8), three cells away."""
+    blocked = np.array([[c == "#" for c in row] for row in POCKET_ROWS[::-1]])
+    robot = Robot("r", (6.5, 7.5), (3.5, 6.5), 0.0, S2)
+    walker_ = MovingObstacle("w", Rect((-0.5, -0.5), (0.5, 0.5)), (3.5, 8.5), (1.0, 0.0), RandomWalk())
+    return World(RectBounds(13, 13), static_map=StaticMap(blocked, 1.0), moving_obstacles=(walker_,),
+                 robots=(robot,), name="pocket")
+
+
+@pytest.mark.parametrize("controller", ["cat-swarm", "pibt"])
+def test_a_robot_fleeing_a_walker_does_not_take_the_dead_end_the_walker_value_rejects(controller) -> None:
+    """The look-ahead tiers take the walker at its worst, and at its worst a walker reaches a
+    dead end last: without the veto the robot steps into the pocket whatever the walker did. With
+    it, it never does where the exact value rates the pocket ten times riskier than its safest
+    move (and 0.002 more), and does where the walker has turned away."""
+    from swarmpath.sim import Simulator
+
+    world = pocket_world()
+    grid = world.grid()
+    table = EvasionRisk(world, grid, static_moves(grid.blocked, 8), ObstacleForecast(world, grid), 0.0, 8)
+    rejected = {True: [], False: []}
+    entered = {True: [], False: []}
+    for veto in (True, False):
+        for seed in range(16):
+            ctrl = CONTROLLERS.get(controller)(evasion_veto=veto)
+            traj = Simulator(world, ctrl, None, seed=seed, max_steps=1).run()
+            assert not traj.contacts
+            seen = traj.obstacle_positions[1]                   # what the robot decided on
+            risk = table.move_risk(np.array([[6, 7]]), seen)[0]
+            pocket = risk[7] > max(10 * risk.min(), risk.min() + 2e-3)
+            cell = tuple(int(v) for v in np.floor(traj.positions[1, 0]))
+            rejected[veto].append(bool(pocket))
+            entered[veto].append(cell in POCKET)
+    assert rejected[True] == rejected[False] and 4 <= sum(rejected[True]) <= 12   # the walker's step decides
+    assert all(entered[False])
+    assert not any(e and r for e, r in zip(entered[True], rejected[True]))
+    assert any(entered[True])

@@ -45,7 +45,7 @@ from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
-from swarmpath.control.evasion import EvasionRisk, check_evasion
+from swarmpath.control.evasion import EvasionRisk, check_evasion, walker_vetoed
 from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs, waiting_home
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -140,6 +140,9 @@ class CatSwarmController(Controller):
             its copies by how long it can keep clear watching the obstacle turn, four steps
             ahead (:mod:`swarmpath.control.turn_game`), instead of the open-loop tiers (True;
             as in ``pibt``).
+        evasion_veto : with random walkers, the look-ahead tiers may not pick a copy the exact
+            walker value rates ten times (and 0.002) riskier than the safest clear one
+            (:func:`~swarmpath.control.evasion.walker_vetoed`; True; as in ``pibt``).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -150,7 +153,8 @@ class CatSwarmController(Controller):
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
                  hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True,
-                 detour_after: int = DETOUR_AFTER, turn_game: bool = True):
+                 detour_after: int = DETOUR_AFTER, turn_game: bool = True, evasion_veto: bool = True):
+        self.evasion_veto = evasion_veto
         self.turn_game = turn_game
         self.detour_after = detour_after
         self.evasion_horizon = evasion_horizon
@@ -202,8 +206,9 @@ class CatSwarmController(Controller):
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"cat-swarm: detour_after must be a whole number >= 0, got {self.detour_after!r}")
-        if not isinstance(self.turn_game, (bool, np.bool_)):
-            raise ConfigError(f"cat-swarm: turn_game must be True or False, got {self.turn_game!r}")
+        for flag in ("turn_game", "evasion_veto"):
+            if not isinstance(getattr(self, flag), (bool, np.bool_)):
+                raise ConfigError(f"cat-swarm: {flag} must be True or False, got {getattr(self, flag)!r}")
 
     def reset(self, world: World, plan: Plan | None, rng: np.random.Generator) -> None:
         self._check_parameters()
@@ -441,10 +446,14 @@ class CatSwarmController(Controller):
         at_goal = obs.at_goal if at_goal is None else at_goal
         stalled = (self.monitor_.since[r] >= self.relax_after) & ~at_goal[r]
         base = v.copy()
-        v, threat, rank, ways = hz.tiers(base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
+        # the tiers may not pick a move the exact walker value rates far riskier (evasion/risk.py)
+        vetoed = walker_vetoed(base, None if walker_risk is None else walker_risk[r]) if self.evasion_veto \
+            else np.zeros_like(base)
+        tier_base = base & ~vetoed
+        v, threat, rank, ways = hz.tiers(tier_base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
                                                               self.lookahead), exits, fallback=in_danger[r])
         # next to a dead end or pocket the way out is the way in: such robots look further (see pibt)
-        near = next_to_dead_end(self.dead_end_, dest, base & ~stalled[:, None])
+        near = next_to_dead_end(self.dead_end_, dest, tier_base & ~stalled[:, None])
         if len(near):
             depth = self.lookahead + DEAD_END_EXTRA
             deep = hazard_windows(fc, obs.obstacle_positions, obs.obstacle_previous, pos[r[near]], cells[r[near]],
@@ -452,15 +461,16 @@ class CatSwarmController(Controller):
             if deep is not None:
                 k = near[deep.rows]
                 deep_exits = np.where(odd[k, :, None], exits[k], deep.at(deep.moves, dest[k]))
-                v[k], threat[k], rank[k], ways[k] = deep.tiers(base[k], dest[k], depth, deep_exits,
+                v[k], threat[k], rank[k], ways[k] = deep.tiers(tier_base[k], dest[k], depth, deep_exits,
                                                                fallback=in_danger[r[k]])
         if self.turn_game_ is not None:
             # a bounce8 obstacle's turn is seen a step later: the robot can react to it (stalled
             # robots keep their shorter look-ahead)
             s = np.flatnonzero(~stalled)
             v[s], threat[s], rank[s] = self.turn_game_.ranks(obs.obstacle_positions, obs.obstacle_previous, cells[r[s]],
-                                                            base[s], dest[s], v[s], threat[s], rank[s],
+                                                            tier_base[s], dest[s], v[s], threat[s], rank[s],
                                                             fallback=in_danger[r[s]])
+        v |= vetoed & in_danger[r][:, None]    # one that must leave may still take them, ranked last
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
         if len(stuck):

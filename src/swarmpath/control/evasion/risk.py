@@ -92,6 +92,32 @@ class EvasionRisk:
         return np.where(allowed, 1 - clear, 1.0)
 
 
+#: A candidate the walker value rates this many times riskier than the safest allowed one ...
+VETO_FACTOR = 10.0
+#: ... and at least this much riskier (a chance over the horizon) is left out of the look-ahead
+#: tiers (:func:`walker_vetoed`).
+VETO_MARGIN = 2e-3
+
+
+def walker_vetoed(allowed: NDArray[np.bool_], risk: FloatArray | None, factor: float = VETO_FACTOR,
+                  margin: float = VETO_MARGIN) -> NDArray[np.bool_]:
+    """The candidates (r, 9) the look-ahead tiers may not pick: among ``allowed`` (r, 9),
+    those whose walker ``risk`` (r, 9, from :meth:`EvasionRisk.move_risk`) exceeds both
+    ``factor`` times and ``margin`` plus the smallest risk of an allowed candidate.
+
+    Why: the tiers take the obstacles at their worst over a few steps, and a walker at its worst
+    reaches a dead-end pocket last; so the tiers sent a robot fleeing a walker into a pocket
+    whose only way out was toward the walker, where the exact chance of being caught was 20
+    times that of the corridor beside it (64 x 64 acceptance world, cat-swarm seed 5: caught)."""
+    allowed = np.asarray(allowed, bool)
+    if risk is None:
+        return np.zeros(allowed.shape, bool)
+    risk = np.asarray(risk, float)
+    best = np.where(allowed, risk, np.inf).min(axis=1, keepdims=True)
+    limit = np.maximum(factor * best, best + margin)
+    return allowed & (risk > limit)
+
+
 def check_evasion(horizon, weight, controller: str) -> None:
     """Raise :class:`~swarmpath.errors.ConfigError` naming the setting unless ``horizon`` is a
     whole number >= 0 and ``weight`` a finite number >= 0 (the controllers' evasion settings)."""

@@ -24,7 +24,7 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
-from swarmpath.control.evasion import EvasionRisk, check_evasion
+from swarmpath.control.evasion import EvasionRisk, check_evasion, walker_vetoed
 from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs, waiting_home
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
@@ -134,6 +134,12 @@ class PIBTController(Controller):
     evasion_weight : float
         Cells of distance to its goal a robot gives up to lower that chance by 1 (1e4: a
         one-in-ten-thousand chance weighs as much as one cell).
+    evasion_veto : bool
+        With random walkers: the look-ahead tiers may not pick a move whose exact chance of
+        being caught is both ten times and 0.002 above the safest clear move's
+        (:func:`~swarmpath.control.evasion.walker_vetoed`); a robot that must leave still may,
+        ranked last. The worst case reaches a dead end last, so without it robots fleeing a
+        walker stepped into pockets whose only way out led back to it. True (default).
     gather : bool
         With ``finish_together``: when every robot is within two cells of its goal, all step
         to cells one move from their goals in one step, if that is safe and makes the
@@ -159,7 +165,8 @@ class PIBTController(Controller):
                  landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0,
                  finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
                  evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER,
-                 turn_game: bool = True):
+                 turn_game: bool = True, evasion_veto: bool = True):
+        self.evasion_veto = evasion_veto
         self.turn_game = turn_game
         self.detour_after = detour_after
         self.evasion_horizon = evasion_horizon
@@ -190,8 +197,9 @@ class PIBTController(Controller):
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"pibt: detour_after must be a whole number >= 0, got {self.detour_after!r}")
-        if not isinstance(self.turn_game, (bool, np.bool_)):
-            raise ConfigError(f"pibt: turn_game must be True or False, got {self.turn_game!r}")
+        for flag in ("turn_game", "evasion_veto"):
+            if not isinstance(getattr(self, flag), (bool, np.bool_)):
+                raise ConfigError(f"pibt: {flag} must be True or False, got {getattr(self, flag)!r}")
         n = world.n_robots
         res = world.resolution
         radius = float(world.radii.max(initial=0.0))
@@ -338,10 +346,17 @@ class PIBTController(Controller):
             if len(check):
                 reach_targets, _ = self._targets(pos, cells, check)
                 allowed[check] &= ~self.forecast_.crossings(pos[check], reach_targets, obs.obstacle_positions)
+            walker_risk = None
+            if self.evasion_ is not None:
+                # near a random walker: each move's exact chance of being caught
+                walker_risk = self.evasion_.move_risk(cells[rows], obs.obstacle_positions)
             if self.lookahead:
                 # keep out of cells that leave no way out later, unless nothing else is left; a
-                # robot that must leave may fall back to less cautious cells, in rank order
-                base = allowed[rows]
+                # robot that must leave may fall back to less cautious cells, in rank order; the
+                # tiers may not pick a move the walker value rates far riskier (evasion/risk.py)
+                full = allowed[rows]
+                vetoed = walker_vetoed(full, walker_risk) if self.evasion_veto else np.zeros_like(full)
+                base = full & ~vetoed
                 allowed[rows], threatened[rows], rank, ways = hz.tiers(base, dest, 1 + self.lookahead,
                                                                        fallback=urgent[rows])
                 # next to a dead end or pocket the way out is the way in: an obstacle heading for the
@@ -361,12 +376,12 @@ class PIBTController(Controller):
                     allowed[rows], threatened[rows], rank = self.turn_game_.ranks(
                         obs.obstacle_positions, obs.obstacle_previous, cells[rows], base, dest, allowed[rows],
                         threatened[rows], rank, fallback=urgent[rows])
+                # one that must leave may still take them, ranked last
+                allowed[rows] |= vetoed & urgent[rows][:, None]
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
                 ranks[rows] = rank
-            walker_risk = None
-            if self.evasion_ is not None:
+            if walker_risk is not None:
                 # within a tier: the move least likely to be caught by a random walker
-                walker_risk = self.evasion_.move_risk(cells[rows], obs.obstacle_positions)
                 dist[rows] += self.evasion_weight * walker_risk
             if self.leave_early:
                 # prefer the candidates that stay clear of every obstacle longest (up to leave_early steps;
