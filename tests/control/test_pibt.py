@@ -232,6 +232,40 @@ def test_three_robots_fleeing_side_by_side_all_get_out_on_a_later_try():
     assert out.moves.tolist() == [east, east, east]
 
 
+def test_two_robots_whose_best_ways_out_cross_both_get_out():
+    """Two robots side by side must leave (an obstacle may reach both); each may step straight
+    down or diagonally down across the other's column, and each prefers its diagonal. Whoever
+    decides first takes its diagonal, which crosses the other's diagonal and takes the other's
+    straight cell: reordering alone leaves one standing in either order. Trying the left-behind
+    robot's ways out one at a time finds both straight down."""
+    from swarmpath.control.pibt.core import pibt_step_escaping
+
+    south, south_east, south_west = 7, 8, 6
+    blocked = np.zeros((3, 4), bool)
+    graph = GridGraph.build(blocked, 8, 0.0, 1.0)
+    cells = np.array([[1, 1], [2, 1]])                   # A left of B
+    flat = (cells[:, 1] * 4 + cells[:, 0]).astype(np.int32)
+    allowed = np.zeros((2, 9), bool)
+    allowed[0, [south, south_east]] = True               # A: to (1, 0) or (2, 0)
+    allowed[1, [south, south_west]] = True               # B: to (2, 0) or (1, 0)
+    dist = np.full((2, 9), 9.0)
+    dist[0, south_east], dist[0, south] = 1.0, 2.0
+    dist[1, south_west], dist[1, south] = 1.0, 2.0
+    kw = {"goals": flat.copy()}
+    danger = np.ones(2, bool)
+    for order in ([1, 0], [0, 1]):
+        order = np.array(order, np.int32)
+        plain = pibt_step(graph, flat, dist, allowed, np.zeros((2, 9)), order, **kw)
+        assert sorted(plain.moves.tolist()) in ([STAY, south_east], [STAY, south_west])
+        both = pibt_step_escaping(graph, flat, dist, allowed, np.zeros((2, 9)), order, danger=danger, **kw)
+        assert both.moves.tolist() == [south, south] and both.conflicts == 0
+        # without the danger (the robots may stay) nothing changes
+        calm = pibt_step_escaping(graph, flat, dist, allowed | (np.arange(9) == STAY), np.zeros((2, 9)), order,
+                                  danger=np.zeros(2, bool), **kw)
+        assert calm.moves.tolist() == pibt_step(graph, flat, dist, allowed | (np.arange(9) == STAY),
+                                                np.zeros((2, 9)), order, **kw).moves.tolist()
+
+
 def test_priorities_follow_section_3_2():
     base = np.array([0.1, 0.7, 0.3])
     p = update_priorities(base.copy(), np.array([False, True, False]), base)

@@ -190,6 +190,11 @@ def pibt_step(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allo
     return StepResult(moves, flags, bool(ok), int(bad), int(calls), int(swaps))
 
 
+#: Steps of PIBT :func:`pibt_step_escaping` may run, at most, to find a way out for robots
+#: still standing in danger after its reordered tries (one per way out tried).
+ESCAPE_TRIES = 16
+
+
 def pibt_step_escaping(graph: GridGraph, cells: NDArray[np.int32], dist: FloatArray, allowed: BoolArray,
                        tie: FloatArray, order: NDArray[np.int32], *, danger: BoolArray,
                        rank: NDArray[np.int64] | None = None, rounds: int = 3, **kwargs) -> StepResult:
@@ -198,7 +203,10 @@ def pibt_step_escaping(graph: GridGraph, cells: NDArray[np.int32], dist: FloatAr
     got a worse ``rank`` (n, 9; the look-ahead's, lower is more cautious) than its best
     candidate's: the robots that failed decide first in the next try, up to ``rounds`` tries;
     the try with the fewest robots left standing in danger, then the fewest in danger on a
-    worse cell, then the fewest others failed, wins (the first on ties).
+    worse cell, then the fewest others failed, wins (the first on ties). A robot still
+    standing in danger then tries each of its ways out (best first) as its only candidate,
+    deciding first; the first try that leaves fewer robots worse off wins (at most
+    :data:`ESCAPE_TRIES` tries).
 
     PIBT decides greedily in priority order, so a robot with two ways out may take the one
     a neighbour needed, or cross its diagonal; letting the robot that was left without a way
@@ -241,4 +249,25 @@ def pibt_step_escaping(graph: GridGraph, cells: NDArray[np.int32], dist: FloatAr
         c = cost(last)
         if c < best_cost:
             best, best_cost = last, c
+    # a robot still left standing in danger tries each of its ways out in turn, deciding first
+    # with that one cell as its only candidate: reordering alone misses two robots fleeing side
+    # by side whose best ways out cross (each one's diagonal is the other's only way; both
+    # straight on is the answer neither ranks first)
+    tries = 0
+    for i in np.flatnonzero(must & danger & (best.moves == STAY)):
+        ways = np.flatnonzero(ok[i])
+        ways = ways[ways != STAY]
+        for a in ways[np.argsort(np.asarray(dist)[i, ways], kind="stable")]:
+            if tries == ESCAPE_TRIES:
+                return best
+            tries += 1
+            only = ok.copy()
+            only[i] = False
+            only[i, a] = True
+            first = np.concatenate([[i], o[o != i]]).astype(np.int32)
+            r = pibt_step(graph, cells, dist, only, tie, first, **kwargs)
+            c = cost(r)
+            if c < best_cost:
+                best, best_cost = r, c
+                break
     return best
