@@ -145,8 +145,8 @@ def test_100_robots_among_20_moving_obstacles_all_home_at_once(controller) -> No
     """20 seeds, the controllers' defaults: every robot reaches its goal, no robot-robot or
     robot-static contact, a robot-moving contact only after the robot reported ``no_escape``;
     and on 19 seeds or more every robot stands on its goal at the end with no contact of any
-    kind (the run ends in the step on which all step home together; pibt 20, cat-swarm 19 of
-    these 20; over seeds 1500-1699, held out, pibt 193, cat-swarm 193 of 200:
+    kind (the run ends in the step on which all step home together; pibt 20, cat-swarm 20 of
+    these 20; over seeds 2000-2399, held out, pibt 393, cat-swarm 391 of 400:
     docs/algorithms/pibt.md). The obstacles never stop, and a random walker can still catch a
     robot that dodges as well as it can."""
     wins = 0
