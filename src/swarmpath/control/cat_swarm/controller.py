@@ -447,11 +447,12 @@ class CatSwarmController(Controller):
         stalled = (self.monitor_.since[r] >= self.relax_after) & ~at_goal[r]
         base = v.copy()
         # the tiers may not pick a move the exact walker value rates far riskier (evasion/risk.py)
-        vetoed = walker_vetoed(base, None if walker_risk is None else walker_risk[r]) if self.evasion_veto \
-            else np.zeros_like(base)
+        vetoed = np.zeros_like(base)
+        if self.evasion_veto and walker_risk is not None:
+            vetoed = walker_vetoed(base, walker_risk[r])
         tier_base = base & ~vetoed
-        v, threat, rank, ways = hz.tiers(tier_base, dest, np.where(stalled, min(self.lookahead, self.stalled_lookahead),
-                                                              self.lookahead), exits, fallback=in_danger[r])
+        looks = np.where(stalled, min(self.lookahead, self.stalled_lookahead), self.lookahead)
+        v, threat, rank, ways = hz.tiers(tier_base, dest, looks, exits, fallback=in_danger[r])
         # next to a dead end or pocket the way out is the way in: such robots look further (see pibt)
         near = next_to_dead_end(self.dead_end_, dest, tier_base & ~stalled[:, None])
         if len(near):
@@ -470,7 +471,7 @@ class CatSwarmController(Controller):
             v[s], threat[s], rank[s] = self.turn_game_.ranks(obs.obstacle_positions, obs.obstacle_previous, cells[r[s]],
                                                             tier_base[s], dest[s], v[s], threat[s], rank[s],
                                                             fallback=in_danger[r[s]])
-        v |= vetoed & in_danger[r][:, None]    # one that must leave may still take them, ranked last
+        v |= vetoed & in_danger[r][:, None]    # one that must leave may take them, ranked last
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
         if len(stuck):

@@ -4,4 +4,5 @@
 from swarmpath.control.evasion.risk import EvasionRisk, check_evasion, walker_vetoed
 from swarmpath.control.evasion.walker import EVASION_RADIUS, WalkerEvasion, WalkerModel, walker_model
 
-__all__ = ["EvasionRisk", "check_evasion", "walker_vetoed", "WalkerEvasion", "WalkerModel", "walker_model", "EVASION_RADIUS"]
+__all__ = ["EvasionRisk", "check_evasion", "walker_vetoed", "WalkerEvasion", "WalkerModel", "walker_model",
+           "EVASION_RADIUS"]
