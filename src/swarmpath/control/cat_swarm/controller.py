@@ -66,6 +66,13 @@ from swarmpath.control.pibt.core import (
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
+from swarmpath.control.pibt.rescue import (
+    RESCUE_AFTER,
+    RESCUE_TIME,
+    StallRescue,
+    check_rescue,
+    planned_decision,
+)
 from swarmpath.control.turn_game import TurnGame
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan
@@ -143,6 +150,10 @@ class CatSwarmController(Controller):
         evasion_veto : with random walkers, the look-ahead tiers may not pick a copy the exact
             walker value rates ten times (and 0.002) riskier than the safest clear one
             (:func:`~swarmpath.control.evasion.walker_vetoed`; True; as in ``pibt``).
+        rescue_after, rescue_time : in a static world, when progress stops for ``rescue_after``
+            steps (24; 0: off), LaCAM plans the rest from where the robots stand, in at most
+            ``rescue_time`` seconds (5), and they follow it (:mod:`swarmpath.control.pibt.rescue`;
+            as in ``pibt``).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -153,7 +164,10 @@ class CatSwarmController(Controller):
                  patience: int | None = 6, swap: bool = True, report_after: int = 40, landmarks: int | str = "auto",
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
                  hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True,
-                 detour_after: int = DETOUR_AFTER, turn_game: bool = True, evasion_veto: bool = True):
+                 detour_after: int = DETOUR_AFTER, turn_game: bool = True, evasion_veto: bool = True,
+                 rescue_after: int = RESCUE_AFTER, rescue_time: float = RESCUE_TIME):
+        self.rescue_after = rescue_after
+        self.rescue_time = rescue_time
         self.evasion_veto = evasion_veto
         self.turn_game = turn_game
         self.detour_after = detour_after
@@ -203,6 +217,7 @@ class CatSwarmController(Controller):
         if (self.patience is not None and self.patience < 1) or self.report_after < 1:
             raise ConfigError("cat-swarm: patience (or None) and report_after must be >= 1")
         check_evasion(self.evasion_horizon, self.evasion_weight, "cat-swarm")
+        check_rescue(self.rescue_after, self.rescue_time, "cat-swarm")
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"cat-swarm: detour_after must be a whole number >= 0, got {self.detour_after!r}")
@@ -249,6 +264,8 @@ class CatSwarmController(Controller):
         self.evasion_ = EvasionRisk(world, self.grid_, self.moves_, self.forecast_, radius,
                                     self.evasion_horizon) if self.forecast_ is not None and self.evasion_horizon else None
         self.pushes_ = np.zeros(n, np.int64)
+        self.rescue_ = StallRescue.build(world, self.grid_, self.graph_, self.tables_, 8, rng,
+                                         after=self.rescue_after, time_limit=self.rescue_time, swap=self.swap)
 
     # ------------------------------------------------------------------ eq. 12
     def _fitness(self, cells: NDArray[np.int64], in_goal_cell: BoolArray) -> FloatArray:
@@ -317,6 +334,10 @@ class CatSwarmController(Controller):
                 done = gathering_step(self.world_, obs, self.forecast_, self.grid_, self.moves_, self.lookahead)
             if done is not None:
                 return done
+        if self.rescue_ is not None and self.rescue_.following:
+            planned = self.rescue_.next_positions(obs.positions)
+            if planned is not None:
+                return planned_decision(obs.positions, planned, self.world_.goals, [])
         pos, goals = obs.positions, obs.goals
         rows = np.arange(n)
         cells = self.cells_.cells(pos)
@@ -328,8 +349,15 @@ class CatSwarmController(Controller):
         # step 6.1-6.2: the seeking memory pool, 9 candidate cells per robot, and eq. 12
         copies = K.seek_copies(cells, srd=self.seeking_range)
         fitness = self._fitness(cells, in_goal_cell)
+        if self.rescue_ is not None:
+            # stalled in a static world: LaCAM plans the rest from here (pibt/rescue.py)
+            planned, rescue_events = self.rescue_.update(pos, cells, fitness[:, K.STAY], at_goal)
+            if planned is not None:
+                return planned_decision(pos, planned, self.world_.goals, rescue_events)
+        else:
+            rescue_events = []
         remaining = self.paths_.remaining(cells, fitness[:, K.STAY])
-        events = self.monitor_.update(obs.step, remaining, at_goal)
+        events = rescue_events + self.monitor_.update(obs.step, remaining, at_goal)
         if self.detour_after and self.forecast_ is not None:
             # a robot an obstacle has held back for a while goes round it (detour.py)
             slow = np.flatnonzero((self.monitor_.since >= self.detour_after) & ~in_goal_cell & self.goal_ok_)

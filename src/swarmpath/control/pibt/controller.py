@@ -49,6 +49,13 @@ from swarmpath.control.pibt.core import (
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
+from swarmpath.control.pibt.rescue import (
+    RESCUE_AFTER,
+    RESCUE_TIME,
+    StallRescue,
+    check_rescue,
+    planned_decision,
+)
 from swarmpath.control.progress import progress_update
 from swarmpath.control.turn_game import TurnGame
 from swarmpath.errors import ConfigError
@@ -157,6 +164,15 @@ class PIBTController(Controller):
         the next four steps it can keep clear when it watches the obstacle turn and reacts
         (:mod:`swarmpath.control.turn_game`: a small game tree), instead of the open-loop tiers
         that take every turn at once. True (default).
+    rescue_after : int
+        In a static world: when for this many steps no robot away from its goal has come
+        closer to it than before (or for twice as many the robots' summed distance has not
+        fallen), LaCAM plans the rest of the run from where the robots stand and they follow
+        that plan (:mod:`swarmpath.control.pibt.rescue`); PIBT alone can shuttle for ever
+        where a goal lies at the bottom of a dead end behind a robot already home. 24
+        (default); 0: off.
+    rescue_time : float
+        Seconds one such LaCAM search may take (5); at most three searches a run.
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -165,7 +181,10 @@ class PIBTController(Controller):
                  landmarks: int | str = "auto", release_at_goal: bool = True, leave_early: int = 0,
                  finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
                  evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER,
-                 turn_game: bool = True, evasion_veto: bool = True):
+                 turn_game: bool = True, evasion_veto: bool = True, rescue_after: int = RESCUE_AFTER,
+                 rescue_time: float = RESCUE_TIME):
+        self.rescue_after = rescue_after
+        self.rescue_time = rescue_time
         self.evasion_veto = evasion_veto
         self.turn_game = turn_game
         self.detour_after = detour_after
@@ -194,6 +213,7 @@ class PIBTController(Controller):
                                        or self.hover < 0):
             raise ConfigError(f"pibt: hover must be a whole number >= 0 or None, got {self.hover!r}")
         check_evasion(self.evasion_horizon, self.evasion_weight, "pibt")
+        check_rescue(self.rescue_after, self.rescue_time, "pibt")
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"pibt: detour_after must be a whole number >= 0, got {self.detour_after!r}")
@@ -237,6 +257,8 @@ class PIBTController(Controller):
             if self.forecast_ is not None and self.turn_game else None
         self.evasion_ = EvasionRisk(world, grid, self.moves_, self.forecast_, radius, self.evasion_horizon) \
             if self.forecast_ is not None and self.evasion_horizon else None
+        self.rescue_ = StallRescue.build(world, grid, self.graph_, self.tables_, self.connectivity, rng,
+                                         after=self.rescue_after, time_limit=self.rescue_time, swap=self.swap)
 
     def _cells(self, points: FloatArray) -> NDArray[np.int64]:
         cells = self.grid_.cell_of(np.asarray(points, float).reshape(-1, 2))
@@ -294,6 +316,10 @@ class PIBTController(Controller):
                 done = gathering_step(self.world_, obs, self.forecast_, self.grid_, self.moves_, 1 + self.lookahead)
             if done is not None:
                 return done
+        if self.rescue_ is not None and self.rescue_.following:
+            planned = self.rescue_.next_positions(pos)
+            if planned is not None:
+                return planned_decision(pos, planned, self.goals_, [])
         cells = self._cells(pos)
         in_goal_cell = np.all(cells == self.goal_cells_, axis=1)
         # discs with goals off the centre wait on it while other robots are near (finish.py)
@@ -302,6 +328,12 @@ class PIBTController(Controller):
         at_goal = waiting_home(obs.at_goal, self.holding_, in_goal_cell, pos, centre)
         dist = self._distances(cells, in_goal_cell)
         self.best_, self.since_ = progress_update(self.best_, self.since_, dist[:, STAY], at_goal)
+        rescue_events: list[dict] = []
+        if self.rescue_ is not None:
+            # stalled in a static world: LaCAM plans the rest from here (rescue.py)
+            planned, rescue_events = self.rescue_.update(pos, cells, dist[:, STAY], at_goal)
+            if planned is not None:
+                return planned_decision(pos, planned, self.goals_, rescue_events)
         # most robots stand on a cell centre away from their goal: every move ends on a centre
         # within reach (diagonals need reach sqrt 2); the others are worked out exactly
         special = np.flatnonzero((np.abs(pos - centre).max(axis=1) > 1e-9)
@@ -424,7 +456,7 @@ class PIBTController(Controller):
         moves = result.moves.astype(np.int64)
         new = centre + GRID_MOVES[moves] * self.grid_.resolution
         new[special] = special_targets[np.arange(len(special)), moves[special]]
-        events: list[dict] = []
+        events: list[dict] = list(rescue_events)
         held = self._exact_check(pos, new, cells)
         for i in held:
             new[i] = pos[i]
