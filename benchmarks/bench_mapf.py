@@ -24,8 +24,11 @@ most 1/10 of it.
 counts from 25 to 400 (or the file's maximum) in steps of 25, ``lacam`` (8-connected, 10 s)
 and the grid controllers named by ``--controllers`` (default ``pibt cat-swarm``) through the
 simulator without a plan (success = every robot at its goal at the end with zero contacts),
-for ``--seeds`` seeds; per map the slowest plan, each controller's failures, and the median
-and worst wall time of a controller's run.
+for ``--seeds`` seeds; per map the slowest plan, each controller's failures, the median
+and worst wall time of a controller's run, and in how many runs the controller's stall rescue
+(LaCAM from where the robots stand, ``control/pibt/rescue.py``) took over. ``--scen-dir
+DIR`` sweeps the scens in DIR instead (each with its map beside it), e.g. MovingAI maps not
+shipped here.
 
 ``--ladder`` runs the rungs of the cat swarm's ablation ladder that use the core
 (``swarmpath.bench.jaleel2016.ladder_rungs``, rung 2 on) on crowded MovingAI instances without
@@ -37,6 +40,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
@@ -154,12 +158,26 @@ SWEEP = [("random-32-32-10", "random-32-32-10-random-1"), ("room-32-32-4", "room
          ("maze-32-32-2", "maze-32-32-2-even-10"), ("den312d", "den312d-even-10"), ("empty-8-8", "empty-8-8-even-10")]
 
 
-def sweep(seeds: int, controllers: list[str]) -> None:
+def scens_in(folder: Path) -> list[tuple[str, str]]:
+    """(map, scen) names of every MovingAI scen in ``folder`` whose map (named in its first
+    row) lies beside it, sorted."""
+    out = []
+    for path in sorted(folder.glob("*.scen")):
+        lines = path.read_text().splitlines()
+        fields = lines[1].split("\t") if len(lines) > 1 else []
+        name = Path(fields[1]).stem if len(fields) > 1 else ""
+        if name and (folder / f"{name}.map").exists():
+            out.append((name, path.stem))
+    return out
+
+
+def sweep(seeds: int, controllers: list[str], folder: Path | None = None) -> None:
     from swarmpath.registry import CONTROLLERS
     from swarmpath.world import world_from_movingai
 
-    for name, scen in SWEEP:
-        rows = len(read_scen(DATA / f"{scen}.scen", read_map(DATA / f"{name}.map")))
+    data = folder if folder is not None else DATA
+    for name, scen in (scens_in(folder) if folder is not None else SWEEP):
+        rows = len(read_scen(data / f"{scen}.scen", read_map(data / f"{name}.map")))
         counts = list(range(25, min(400, rows) + 1, 25)) or [rows]
         if name == "empty-8-8":
             counts = [8, 16, 24, 32]
@@ -167,8 +185,9 @@ def sweep(seeds: int, controllers: list[str]) -> None:
         worst_lacam = 0.0
         walls: dict[str, list[float]] = {c: [] for c in controllers}
         runs = 0
+        rescued: dict[str, int] = {c: 0 for c in controllers}
         for n in counts:
-            world = world_from_movingai(DATA / f"{name}.map", DATA / f"{scen}.scen", n)
+            world = world_from_movingai(data / f"{name}.map", data / f"{scen}.scen", n)
             for seed in range(seeds):
                 t = time.perf_counter()
                 plan = LaCAMPlanner(time_limit=10.0).plan(world, rng=seed)
@@ -180,12 +199,14 @@ def sweep(seeds: int, controllers: list[str]) -> None:
                     t = time.perf_counter()
                     traj = Simulator(world, CONTROLLERS.get(c)(), seed=seed).run()
                     walls[c].append(time.perf_counter() - t)
+                    rescued[c] += any(e["kind"] == "rescue" for e in traj.events)
                     if traj.status.value != "all_reached" or traj.contacts:
                         at = np.linalg.norm(traj.positions[-1] - world.goals, axis=1) <= 1e-9
                         fails.append(f"n={n} seed={seed}: {c} FAIL ({traj.status.value}, {int(at.sum())}/{n} at "
                                      f"goal, {len(traj.contacts)} contacts)")
-        times = "; ".join(f"{c} run median {np.median(w):.2f} s, worst {max(w):.2f} s" for c, w in walls.items())
-        print(f"{name}: counts {counts[0]}..{counts[-1]}, {seeds} seeds ({runs} instances): slowest lacam "
+        times = "; ".join(f"{c} run median {np.median(w):.2f} s, worst {max(w):.2f} s, LaCAM rescue in "
+                          f"{rescued[c]} runs" for c, w in walls.items())
+        print(f"{scen}: counts {counts[0]}..{counts[-1]}, {seeds} seeds ({runs} instances): slowest lacam "
               f"{worst_lacam:.3f} s; {times}; " + ("every instance solved by all" if not fails else "; ".join(fails)),
               flush=True)
 
@@ -222,12 +243,15 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--controllers", nargs="+", default=["pibt", "cat-swarm"])
     ap.add_argument("--ladder", action="store_true")
+    ap.add_argument("--scen-dir", type=Path, default=None,
+                    help="with --sweep: every MovingAI scen in this folder whose map lies beside it "
+                         "(default: the scens shipped in src/swarmpath/data/movingai)")
     args = ap.parse_args()
     if args.ladder:
         ladder(args.seeds)
         return
     if args.sweep:
-        sweep(args.seeds, args.controllers)
+        sweep(args.seeds, args.controllers, args.scen_dir)
         return
     lacam_soc, lacam_time = [], []
     for name, scen in INSTANCES:

@@ -1,13 +1,15 @@
 """Scale: thousands of robots with the ``pibt`` controller through the real simulator.
 
 Run on demand (not a test):  nice python benchmarks/bench_scale.py [--robots 1000 10000] [--size 512]
+[--rescue-after 0]
 
 Test: a size x size map with 20% of the cells blocked at random (seed 0); starts and goals
 are distinct random cells of the largest 4-connected free component (no corner cutting, so
 every goal is reachable). Point robots, max speed sqrt 2 cells per step (8-connected moves).
 The run is ``swarmpath.runner.run_world(world, planner="none", controller="pibt")``: the
 simulator senses, asks the controller, validates and checks every move (its own checker) and
-records the trajectory.
+records the trajectory. Any search of the controller's stall rescue (LaCAM from where the robots
+stand, ``control/pibt/rescue.py``) is printed with the step it started on.
 
 Printed per robot count: the time to build the World (its robot validation is O(n^2)), the
 controller's reset, the whole run (reset included), where the run's time goes (controller's
@@ -81,13 +83,13 @@ def make_world(blocked: np.ndarray, cells: np.ndarray, n: int, seed: int) -> Wor
     return World(RectBounds(w, h), static_map=StaticMap(blocked), robots=robots, name=f"random-{w}-{n}")
 
 
-def run(n: int, size: int, density: float) -> None:
+def run(n: int, size: int, density: float, rescue_after: int | None = None) -> None:
     blocked, cells = make_map(size, density, 0)
     with PeakRSS() as build_mem:
         t = time.perf_counter()
         world = make_world(blocked, cells, n, 1)
         build = time.perf_counter() - t
-    controller = PIBTController()
+    controller = PIBTController() if rescue_after is None else PIBTController(rescue_after=rescue_after)
     with PeakRSS() as run_mem:
         t, cpu = time.perf_counter(), time.process_time()
         traj = Simulator(world, controller, None, seed=0).run()
@@ -103,6 +105,9 @@ def run(n: int, size: int, density: float) -> None:
     print(f"       arrived {arrived}/{n}; contacts {len(traj.contacts)}; pushes {int(controller.pushes_.sum())}; "
           f"tables live at the end {tables.live}, memory {tables.memory_bytes() / 2**20:.1f} MiB; "
           f"peak RSS during the run {run_mem.peak / 2**30:.2f} GiB")
+    for e in traj.events:
+        if e["kind"].startswith("rescue"):
+            print(f"       step {e['step']}: {e['kind']}: {e['detail']}")
 
 
 def main() -> None:
@@ -110,9 +115,11 @@ def main() -> None:
     ap.add_argument("--robots", type=int, nargs="+", default=[1000, 10000])
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--density", type=float, default=0.2)
+    ap.add_argument("--rescue-after", type=int, default=None,
+                    help="the controller's rescue_after (default: its own; 0: no LaCAM rescue)")
     args = ap.parse_args()
     for n in args.robots:
-        run(n, args.size, args.density)
+        run(n, args.size, args.density, args.rescue_after)
 
 
 if __name__ == "__main__":

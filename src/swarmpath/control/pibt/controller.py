@@ -166,8 +166,9 @@ class PIBTController(Controller):
         that take every turn at once. True (default).
     rescue_after : int
         In a static world: when for this many steps no robot away from its goal has come
-        closer to it than before (or for twice as many the robots' summed distance has not
-        fallen), LaCAM plans the rest of the run from where the robots stand and they follow
+        closer to it than before, one robot has been pushed to and fro this many times
+        without coming closer, or for twice as many steps the robots' summed distance has not
+        fallen, LaCAM plans the rest of the run from where the robots stand and they follow
         that plan (:mod:`swarmpath.control.pibt.rescue`); PIBT alone can shuttle for ever
         where a goal lies at the bottom of a dead end behind a robot already home. 24
         (default); 0: off.

@@ -16,9 +16,11 @@ to LaCAM (:class:`StallRescue`). Each robot away from its goal keeps a record: t
 distance to its goal since it last left it. Progress has stopped when
 
 - for ``after`` steps no robot away from its goal has beaten its record (every robot stuck);
-- for ``2 * after`` steps one robot has not (one robot stuck while the others still move:
-  the simulator calls a deadlock when the robots left have kept to two cells each for 60
-  steps, so ``2 * after`` must stay below that); or
+- one robot has shuttled ``after`` times (stepped back onto the cell it left the step before)
+  without beating its record: pushed to and fro while the others still move. The simulator
+  calls a deadlock when the robots left have kept to two cells each for 60 steps. A robot
+  merely waiting in a queue does not count: in a crowd of 10,000 one always waits that long,
+  and a search for all of them would only spend its budget; or
 - for ``2 * after`` steps the sum of the distances of the robots away from their goals has not
   fallen below its least value so far (robots pushed on and off their goals start fresh
   records without the run getting anywhere). The plan is collision-free under the
@@ -105,7 +107,9 @@ class StallRescue:
         self.swap = swap
         n = len(self.goal_cells)
         self.best = np.full(n, np.inf)          # each robot's record since it last left its goal
-        self.waited = np.zeros(n, np.int64)     # steps since each robot away from its goal beat it
+        self.shuttled = np.zeros(n, np.int64)   # A-B-A steps of each robot since it last beat it
+        self.last = np.full((n, 2), -1, np.int64)    # each robot's cell one step ago
+        self.before = np.full((n, 2), -1, np.int64)  # and two steps ago
         self.since = 0                          # steps since some robot away from its goal beat it
         self.best_sum = np.inf
         self.since_sum = 0
@@ -167,7 +171,10 @@ class StallRescue:
         # a robot that has just left its goal starts a record; that is no progress
         improved = away & np.isfinite(self.best) & (remaining < self.best - 1e-6)
         self.best = np.where(away, np.minimum(self.best, remaining), np.inf)
-        self.waited = np.where(improved | ~away, 0, self.waited + 1)
+        c = np.asarray(cells, np.int64)
+        shuttle = np.all(c == self.before, axis=1) & np.any(c != self.last, axis=1)   # A, B, A again
+        self.shuttled = np.where(improved | ~away, 0, self.shuttled + shuttle)
+        self.before, self.last = self.last, c.copy()
         self.since = 0 if improved.any() or not away.any() else self.since + 1
         total = float(np.sum(np.where(away & np.isfinite(remaining), remaining, 0.0)))
         if total < self.best_sum - 1e-6:
@@ -175,14 +182,14 @@ class StallRescue:
         else:
             self.since_sum += 1
         stalled = away.any() and (self.since >= self.after or self.since_sum >= 2 * self.after
-                                  or bool(np.any(self.waited[away] >= 2 * self.after)))
+                                  or bool(np.any(self.shuttled[away] >= self.after)))
         if not stalled or self.tried >= self.attempts or not np.all(np.isfinite(remaining)):
             return None, []     # a goal cut off from its robot: LaCAM has no plan to find
         if np.any(np.abs(self.grid.centers(cells) - np.asarray(positions)) > 1e-9):
             return None, []
         self.tried += 1
         self.since = self.since_sum = 0
-        self.waited[:] = 0
+        self.shuttled[:] = 0
         self.best_sum = np.inf
         t0 = time.perf_counter()
         configs, reason = self._search(np.asarray(cells, np.int64))
