@@ -23,9 +23,10 @@ distance to its goal since it last left it. Progress has stopped when
   and a search for all of them would only spend its budget; or
 - for ``2 * after`` steps the sum of the distances of the robots away from their goals has not
   fallen below its least value so far (robots pushed on and off their goals start fresh
-  records without the run getting anywhere). The plan is collision-free under the
-checker's rules (the same conflict table as the core's), so following it ends the run with
-every robot home and no contact.
+  records without the run getting anywhere).
+
+The plan is collision-free under the checker's rules (the same conflict table as the core's),
+so following it ends the run with every robot home and no contact.
 
 It applies only where LaCAM's plan is the whole truth: no moving obstacles (they would cross a
 plan made without them), every goal on its cell's centre and on a free cell, every robot on a
