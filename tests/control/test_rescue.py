@@ -63,6 +63,15 @@ def test_a_robot_whose_goal_lies_behind_one_already_home_gets_there(controller) 
         assert "rescue" in traj.mode_names
 
 
+def test_the_rescue_plans_with_the_controllers_own_moves_on_four_connected_grids() -> None:
+    world = text_world(DEAD_END)
+    assert run(world, "pibt", 0, connectivity=4, rescue_after=0).status == "deadlock"
+    traj = run(world, "pibt", 0, connectivity=4)
+    assert traj.status == "all_reached" and validate_trajectory(world, traj) == []
+    steps = np.abs(np.diff(traj.positions, axis=0)).sum(axis=2)
+    assert np.all(steps <= 1.0 + 1e-9)    # no diagonal move, the plan's steps included
+
+
 def dense_world(seed: int, n: int, size: int = 32, density: float = 0.2) -> World:
     """A size x size map with ``density`` random blocked cells and n point robots on distinct
     random starts and goals in its largest 4-connected free area (so every goal is reachable
