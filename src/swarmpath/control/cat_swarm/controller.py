@@ -349,13 +349,12 @@ class CatSwarmController(Controller):
         # step 6.1-6.2: the seeking memory pool, 9 candidate cells per robot, and eq. 12
         copies = K.seek_copies(cells, srd=self.seeking_range)
         fitness = self._fitness(cells, in_goal_cell)
+        rescue_events: list[dict] = []
         if self.rescue_ is not None:
             # stalled in a static world: LaCAM plans the rest from here (pibt/rescue.py)
             planned, rescue_events = self.rescue_.update(pos, cells, fitness[:, K.STAY], at_goal)
             if planned is not None:
                 return planned_decision(pos, planned, self.world_.goals, rescue_events)
-        else:
-            rescue_events = []
         remaining = self.paths_.remaining(cells, fitness[:, K.STAY])
         events = rescue_events + self.monitor_.update(obs.step, remaining, at_goal)
         if self.detour_after and self.forecast_ is not None:

@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from swarmpath.control.pibt.core import GridGraph, static_moves
+from swarmpath.control.progress import progress_update
 from swarmpath.planning.lacam.search import lacam_search
 from swarmpath.search.lazy_distance import LazyDistanceTables
 
@@ -108,6 +109,7 @@ class StallRescue:
         self.swap = swap
         n = len(self.goal_cells)
         self.best = np.full(n, np.inf)          # each robot's record since it last left its goal
+        self.came_closer = np.zeros(n, np.int64)  # steps since it last beat it (progress.py)
         self.shuttled = np.zeros(n, np.int64)   # A-B-A steps of each robot since it last beat it
         self.last = np.full((n, 2), -1, np.int64)    # each robot's cell one step ago
         self.before = np.full((n, 2), -1, np.int64)  # and two steps ago
@@ -169,9 +171,11 @@ class StallRescue:
         positions (n, 2) or None, and the events of a search (``rescue`` or ``rescue_failed``)."""
         remaining = np.where(np.isfinite(remaining), remaining, np.inf)
         away = ~np.asarray(at_goal, bool)
+        had_record = np.isfinite(self.best)
+        self.best, came_closer = progress_update(self.best, self.came_closer, remaining, ~away)
+        self.came_closer = came_closer
         # a robot that has just left its goal starts a record; that is no progress
-        improved = away & np.isfinite(self.best) & (remaining < self.best - 1e-6)
-        self.best = np.where(away, np.minimum(self.best, remaining), np.inf)
+        improved = away & had_record & (came_closer == 0)
         c = np.asarray(cells, np.int64)
         shuttle = np.all(c == self.before, axis=1) & np.any(c != self.last, axis=1)   # A, B, A again
         self.shuttled = np.where(improved | ~away, 0, self.shuttled + shuttle)
