@@ -53,11 +53,27 @@ def _successors(world: World, p: np.ndarray, v: np.ndarray) -> list[tuple[np.nda
 
 
 def _swept(p: np.ndarray, q: np.ndarray) -> set[tuple[int, int]]:
-    """Cells whose open unit square meets the unit box's sweep from p to q."""
+    """Cells whose open unit square meets the unit box's sweep from p to q: those for which
+    some t in [0, 1] puts the box p + t (q - p) + (-0.5, 0.5)^2 over the square on both axes
+    at once (the two open intervals of t, one per axis, intersect within [0, 1])."""
+    d = q - p
     lo, hi = np.minimum(p, q) - 0.5, np.maximum(p, q) + 0.5
-    return {(x, y) for x in range(int(np.floor(lo[0])) - 1, int(np.ceil(hi[0])) + 1)
-            for y in range(int(np.floor(lo[1])) - 1, int(np.ceil(hi[1])) + 1)
-            if x < hi[0] - 1e-9 and x + 1 > lo[0] + 1e-9 and y < hi[1] - 1e-9 and y + 1 > lo[1] + 1e-9}
+
+    def when(axis: int, cell: int) -> tuple[float, float]:
+        # t with  p - 0.5 + t d < cell + 1  and  p + 0.5 + t d > cell
+        a, b = cell + 1 - (p[axis] - 0.5), cell - (p[axis] + 0.5)
+        if abs(d[axis]) < 1e-12:
+            return (-np.inf, np.inf) if a > 0 > b else (np.inf, -np.inf)
+        t1, t2 = a / d[axis], b / d[axis]
+        return (t2, t1) if d[axis] > 0 else (t1, t2)
+
+    out = set()
+    for x in range(int(np.floor(lo[0])) - 1, int(np.ceil(hi[0])) + 1):
+        for y in range(int(np.floor(lo[1])) - 1, int(np.ceil(hi[1])) + 1):
+            (ax, bx), (ay, by) = when(0, x), when(1, y)
+            if max(ax, ay, 0.0) < min(bx, by, 1.0) - 1e-9:
+                out.add((x, y))
+    return out
 
 
 def _reference(world: World, now: np.ndarray, previous: np.ndarray, cells: list[tuple[int, int]]) -> list[int]:

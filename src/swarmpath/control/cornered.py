@@ -53,8 +53,9 @@ def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
     next position covers the cell, shape (k, c), each next position weighted by
     :func:`move_weights`, leaving out the obstacles ``skip`` (m,) marks; and whether an
     obstacle (any) covers the cell where it stands now (k, c): a contact in this very step. A
-    cell is covered as in the forecast's D_1: the sweep's bounding box, grown by the robots'
-    radius, overlaps the cell's open square."""
+    cell is covered as in the forecast's D_1: the swept footprint, grown by the robots' radius
+    (:meth:`~swarmpath.control.hazards.ObstacleForecast.sweep_ranges`), overlaps the cell's
+    open square."""
     cells = np.asarray(cells, np.int64)
     k, c = cells.shape[:2]
     if forecast.m == 0 or k == 0:
@@ -66,16 +67,18 @@ def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
         weight[np.asarray(skip, bool)] = 0.0
     j, s = np.nonzero(weight)
     q = cand[j, s]
-    lo = np.minimum(p[j], q) + forecast.keep_lo[j] - extra[j, None]
-    hi = np.maximum(p[j], q) + forecast.keep_hi[j] + extra[j, None]
-    sweeps = forecast.cover_ranges(lo, hi)                                         # (w, 4)
+    sweeps, of = forecast.sweep_ranges(p[j], q, forecast.keep_lo[j] - extra[j, None],
+                                       forecast.keep_hi[j] + extra[j, None])       # (w', 4), sweep of each
     here = forecast.cover_ranges(p + forecast.keep_lo, p + forecast.keep_hi)       # (m, 4)
     x, y = cells[..., 0, None], cells[..., 1, None]
 
     def inside(r: IntArray) -> BoolArray:
         return (x >= r[:, 0]) & (x < r[:, 2]) & (y >= r[:, 1]) & (y < r[:, 3])
 
-    return inside(sweeps) @ weight[j, s], inside(here).any(axis=-1)
+    covers = np.zeros((len(sweeps), len(q)))
+    covers[np.arange(len(sweeps)), of] = 1.0    # a diagonal sweep is several rows of cells
+    swept = (inside(sweeps).astype(float) @ covers) > 0
+    return swept @ weight[j, s], inside(here).any(axis=-1)
 
 
 def ways_clear(hz: HazardWindows, local_rows: IntArray, dest: IntArray) -> IntArray:

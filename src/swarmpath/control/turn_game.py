@@ -24,7 +24,7 @@ step can keep clear, playing best:
 where s is the obstacle's state (position and step) at level l, C_l the open-loop cover of
 every *other* obstacle at step l + 1 (D_(l+1) without this obstacle's ranges, from
 ``ObstacleForecast.owned_step_ranges``), sweep(s -> b) the cells its move covers (as in D_1:
-the sweep's box grown by the robots' radius), and a the robot's static moves (staying
+the swept footprint grown by the robots' radius), and a the robot's static moves (staying
 included). The other obstacles are taken at their worst, so each obstacle's value is sound on
 its own, and a robot near two turning obstacles takes the better of the two.
 
@@ -204,12 +204,14 @@ class TurnGame:
         value = np.zeros((0, size, size), np.int8)
         for level in range(depth - 1, -1, -1):
             parent, child, g, a, b = edges[level]
-            box = fc.cover_ranges(np.minimum(a, b) + keep_lo[g], np.maximum(a, b) + keep_hi[g])
-            x0 = (box[:, 0] - origin[g, 0])[:, None, None]
-            y0 = (box[:, 1] - origin[g, 1])[:, None, None]
-            x1 = (box[:, 2] - origin[g, 0])[:, None, None]
-            y1 = (box[:, 3] - origin[g, 1])[:, None, None]
-            hit = (xs >= x0) & (xs < x1) & (ys >= y0) & (ys < y1) | covered[g, level]
+            # the cells each edge's sweep covers: a box per cell row (fc.sweep_ranges), painted
+            rows, edge = fc.sweep_ranges(a, b, keep_lo[g], keep_hi[g])
+            x0, y0 = rows[:, 0] - origin[g[edge], 0], rows[:, 1] - origin[g[edge], 1]
+            x1, y1 = rows[:, 2] - origin[g[edge], 0], rows[:, 3] - origin[g[edge], 1]
+            hit = covered[g, level].copy()
+            row_hit = ((xs[None] >= x0[:, None, None]) & (xs[None] < x1[:, None, None])
+                       & (ys[None] >= y0[:, None, None]) & (ys[None] < y1[:, None, None]))
+            np.logical_or.at(hit, edge, row_hit)
             if level + 1 < depth:
                 later = np.where(expand[level + 1][child, None, None], value[child], free[level + 1][g])
                 best, count = _best_move(later, index[g], count=True)
