@@ -283,8 +283,7 @@ def test_forecasts_hold_every_simulated_future():
         assert all(not (c & ~lc).any() for c, lc in zip(coverage, loose))
         for k in range(1, depth + 1):
             a, b = path[t + k - 1], path[t + k]
-            swept = H.paint(coverage[0].shape, fc.cover_ranges(np.minimum(a, b) + fc.keep_lo,
-                                                               np.maximum(a, b) + fc.keep_hi))
+            swept = H.paint(coverage[0].shape, fc.sweep_ranges(a, b, fc.keep_lo, fc.keep_hi)[0])
             assert not (swept & ~coverage[k - 1]).any(), (t, k)
         fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)   # no step known: any-heading
     assert tighter > len(path) // 2   # turn-every is forecast as a bouncer between its turns
@@ -453,8 +452,7 @@ def test_waypoint_obstacles_are_forecast_along_their_route():
         coverage = fc.coverage(path[t], path[t - 1], depth)
         for k in range(1, depth + 1):
             a, b = path[t + k - 1], path[t + k]
-            swept = H.paint(coverage[0].shape, fc.cover_ranges(np.minimum(a, b) + fc.keep_lo,
-                                                               np.maximum(a, b) + fc.keep_hi))
+            swept = H.paint(coverage[0].shape, fc.sweep_ranges(a, b, fc.keep_lo, fc.keep_hi)[0])
             assert not (swept & ~coverage[k - 1]).any(), (t, k)
             assert np.array_equal(swept, coverage[k - 1]), (t, k)
         assert sum(c.sum() for c in coverage) < sum(c.sum() for c in loose) / 2

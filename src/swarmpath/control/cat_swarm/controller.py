@@ -479,7 +479,10 @@ class CatSwarmController(Controller):
             vetoed = walker_vetoed(base, walker_risk[r])
         tier_base = base & ~vetoed
         looks = np.where(stalled, min(self.lookahead, self.stalled_lookahead), self.lookahead)
-        v, threat, rank, ways = hz.tiers(tier_base, dest, looks, exits, fallback=in_danger[r])
+        # every robot keeps its shallower-tier candidates too, ranked after the deeper ones: one
+        # pushed out of its cell takes a less cautious cell instead of failing its pusher (pibt)
+        ranked = np.ones(len(r), bool)
+        v, threat, rank, ways = hz.tiers(tier_base, dest, looks, exits, fallback=ranked)
         # next to a dead end or pocket the way out is the way in: such robots look further (see pibt)
         near = next_to_dead_end(self.dead_end_, dest, tier_base & ~stalled[:, None])
         if len(near):
@@ -490,14 +493,14 @@ class CatSwarmController(Controller):
                 k = near[deep.rows]
                 deep_exits = np.where(odd[k, :, None], exits[k], deep.at(deep.moves, dest[k]))
                 v[k], threat[k], rank[k], ways[k] = deep.tiers(tier_base[k], dest[k], depth, deep_exits,
-                                                               fallback=in_danger[r[k]])
+                                                               fallback=ranked[k])
         if self.turn_game_ is not None:
             # a bounce8 obstacle's turn is seen a step later: the robot can react to it (stalled
             # robots keep their shorter look-ahead)
             s = np.flatnonzero(~stalled)
             v[s], threat[s], rank[s] = self.turn_game_.ranks(obs.obstacle_positions, obs.obstacle_previous, cells[r[s]],
                                                             tier_base[s], dest[s], v[s], threat[s], rank[s],
-                                                            fallback=in_danger[r[s]])
+                                                            fallback=ranked[s])
         v |= vetoed & in_danger[r][:, None]    # one that must leave may take them, ranked last
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))

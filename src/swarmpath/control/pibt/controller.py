@@ -98,9 +98,10 @@ class PIBTController(Controller):
         clear of every obstacle whatever the obstacles do: it keeps to the deepest tier of
         :meth:`~swarmpath.control.hazards.HazardWindows.tiers` that leaves it a candidate (a
         dead end an obstacle is heading into is left while it still can be). 2 (default):
-        two steps beyond the next; 0: the next step only. A robot that must leave its cell
+        two steps beyond the next; 0: the next step only. Every robot an obstacle can reach
         keeps every candidate, ranked by these tiers (a shallower one only when the deeper ones
-        are taken), and one with no candidate in its deepest tier takes the cell with most ways
+        are taken: a robot that must leave its cell, or one pushed out of it), and one with no
+        candidate in its deepest tier takes the cell with most ways
         on (:func:`~swarmpath.control.hazards.cornered_penalty`). A robot with a candidate in
         a dead end (:func:`~swarmpath.control.hazards.dead_end_cells`) or a pocket one
         obstacle can close (:func:`~swarmpath.control.hazards.pocket_cells`) looks
@@ -389,9 +390,13 @@ class PIBTController(Controller):
                 # tiers may not pick a move the walker value rates far riskier (evasion/risk.py)
                 full = allowed[rows]
                 vetoed = walker_vetoed(full, walker_risk) if self.evasion_veto else np.zeros_like(full)
+                # every robot keeps its candidates of the shallower tiers too, ranked after the
+                # deeper ones: one pushed out of its cell then takes a less cautious cell instead
+                # of failing the robot that pushed it, often one an obstacle closes in on
+                ranked = np.ones(len(rows), bool)
                 base = full & ~vetoed
                 allowed[rows], threatened[rows], rank, ways = hz.tiers(base, dest, 1 + self.lookahead,
-                                                                       fallback=urgent[rows])
+                                                                       fallback=ranked)
                 # next to a dead end or pocket the way out is the way in: an obstacle heading for the
                 # mouth corners the robot unless it leaves early, so such robots look further
                 near = next_to_dead_end(self.dead_end_, dest, base)
@@ -403,12 +408,12 @@ class PIBTController(Controller):
                     if deep is not None:
                         k = near[deep.rows]
                         allowed[rows[k]], threatened[rows[k]], rank[k], ways[k] = deep.tiers(
-                            base[k], dest[k], depth, fallback=urgent[rows[k]])
+                            base[k], dest[k], depth, fallback=ranked[k])
                 if self.turn_game_ is not None:
                     # a bounce8 obstacle's turn is seen a step later: the robot can react to it
                     allowed[rows], threatened[rows], rank = self.turn_game_.ranks(
                         obs.obstacle_positions, obs.obstacle_previous, cells[rows], base, dest, allowed[rows],
-                        threatened[rows], rank, fallback=urgent[rows])
+                        threatened[rows], rank, fallback=ranked)
                 # one that must leave may still take them, ranked last
                 allowed[rows] |= vetoed & urgent[rows][:, None]
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
