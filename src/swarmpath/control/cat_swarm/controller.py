@@ -102,8 +102,9 @@ class CatSwarmController(Controller):
             ("short", "medium" as in the paper, "long" default, "very long").
         margin : extra cells kept clear around obstacles' current and next footprints (0).
         lookahead : steps over which a robot makes sure it can keep clear of moving obstacles
-            whatever they do (3; 1 = only the next step, as in the paper). A robot that must
-            leave its cell keeps every candidate, ranked by these tiers; one with no candidate
+            whatever they do (3; 1 = only the next step, as in the paper). Every robot an
+            obstacle can reach keeps every candidate, ranked by these tiers (a shallower one
+            when it must leave its cell or is pushed out of it); one with no candidate
             in its deepest tier takes the cell with most ways on
             (:func:`~swarmpath.control.hazards.cornered_penalty`); one with a candidate in a
             dead end or a pocket one obstacle can close looks ``DEAD_END_EXTRA`` (2) steps
