@@ -180,6 +180,18 @@ def test_100_robots_among_20_obstacles_of_other_motion_models(controller, kind) 
     assert len(failed) <= len(seeds) // 10, (controller, kind, failed)
 
 
+def test_ways_out_that_a_sweep_box_or_a_failed_push_used_to_close() -> None:
+    """Two held-out seeds read closely (docs/algorithms/pibt.md, "Exact sweeps" and "Pushed
+    robots keep their shallower cells"), `pibt`: in 2691 a robot on its goal in a dead end had
+    one way out, a corner of a diagonal sweep's bounding box that the sweep itself misses; in
+    2784 a robot pushed a neighbour whose deepest tier had no free cell, stood, and was caught
+    in a pocket a step later. Each run was caught before its change; now every robot is home
+    and there is no contact of any kind."""
+    for seed in (2691, 2784):
+        traj, success = checked_run("pibt", seed)
+        assert success, (seed, traj.status, [(c.step, c.robot, c.other) for c in traj.contacts])
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("controller", ["cat-swarm", "pibt"])
 def test_robots_react_to_bounce8_turns_they_could_not_outguess(controller) -> None:
