@@ -137,12 +137,10 @@ def sweep_cell_ranges(a: FloatArray, b: FloatArray, lo: FloatArray, hi: FloatArr
     ax, dx = a[k, 0, None], d[k, 0, None]
     x_lo = ax + lo[k, 0, None] + np.minimum(t_lo * dx, t_hi * dx)
     x_hi = ax + hi[k, 0, None] + np.maximum(t_lo * dx, t_hi * dx)
-    if centres:
-        x0 = np.floor((x_lo + CENTRE_SLACK) / resolution - 0.5).astype(np.int64) + 1
-        x1 = np.ceil((x_hi - CENTRE_SLACK) / resolution - 0.5).astype(np.int64)
-    else:
-        x0 = np.floor(x_lo / resolution + 1e-6).astype(np.int64)
-        x1 = np.ceil(x_hi / resolution - 1e-6).astype(np.int64)
+    # the columns by the same rule as the boxes (the row's y is set above, not taken from here)
+    span = ranges_of(np.stack([x_lo, np.zeros_like(x_lo)], axis=-1), np.stack([x_hi, np.zeros_like(x_hi)], axis=-1),
+                     resolution)
+    x0, x1 = span[..., 0], span[..., 2]
     keep = valid & (x0 < x1)
     cells = np.stack([x0[keep], row[keep], x1[keep], row[keep] + 1], axis=1)
     owner = np.broadcast_to(k[:, None], row.shape)[keep]
