@@ -266,6 +266,45 @@ def test_two_robots_whose_best_ways_out_cross_both_get_out():
                                                 np.zeros((2, 9)), order, **kw).moves.tolist()
 
 
+def test_robots_pushed_aside_leave_the_cells_that_robots_in_danger_need():
+    """Two robots in a pocket must leave (an obstacle may reach both) down into the row where
+    two calm robots stand; the right one prefers straight down, the left one its diagonal,
+    and the left one decides first. The calm robot below the right one, pushed, prefers the
+    cell to its west, which is a way out of both: in every retry one robot in danger is left
+    standing. With escape_claims added to its ranking (after the tier) the pushed robot
+    steps elsewhere and both robots in danger get out, in either order."""
+    from swarmpath.control.pibt.core import escape_claims, pibt_step_escaping
+
+    south, south_east, south_west, west = 7, 8, 6, 5
+    blocked = np.zeros((3, 3), bool)
+    graph = GridGraph.build(blocked, 8, 0.0, 1.0)
+    cells = np.array([[0, 2], [1, 2], [1, 1], [0, 1]])  # B, A (in the pocket), C, D (below)
+    flat = (cells[:, 1] * 3 + cells[:, 0]).astype(np.int32)
+    allowed = np.zeros((4, 9), bool)
+    allowed[0, [south, south_east]] = True               # B: to (0, 1) or (1, 1)
+    allowed[1, [south, south_west]] = True               # A: to (1, 1) or (0, 1)
+    allowed[2:] = static_moves(blocked, 8)[cells[2:, 1], cells[2:, 0]]
+    dist = np.full((4, 9), 9.0)
+    dist[0, south_east], dist[0, south] = 1.0, 2.0
+    dist[1, south], dist[1, south_west] = 1.0, 2.0
+    dist[2, STAY], dist[2, west] = 0.0, 1.0              # C: stay, else west (D's cell)
+    dist[3, STAY], dist[3, south] = 0.0, 1.0
+    danger = np.array([True, True, False, False])
+    rank = np.zeros((4, 9), np.int64)
+    kw = {"goals": np.full(4, 2, np.int32)}                 # no robot on its goal
+    plain = pibt_step_escaping(graph, flat, dist, allowed, np.zeros((4, 9)), np.arange(4, dtype=np.int32),
+                               danger=danger, rank=rank, **kw)
+    assert plain.moves[1] == STAY and plain.moves[2] == west
+    for order in ([0, 1, 2, 3], [1, 0, 2, 3]):
+        order = np.array(order, np.int32)
+        claims = escape_claims(cells, allowed, rank, danger & ~allowed[:, STAY], (3, 3))
+        assert claims[2, west] == 2 and claims[2, STAY] == 0 and (claims[:2] == 0).all()
+        out = pibt_step_escaping(graph, flat, dist + 10.0 * claims, allowed, np.zeros((4, 9)), order, danger=danger,
+                                 rank=rank, **kw)
+        assert out.moves[0] != STAY and out.moves[1] != STAY and out.conflicts == 0
+        assert out.moves[2] != west
+
+
 def test_priorities_follow_section_3_2():
     base = np.array([0.1, 0.7, 0.3])
     p = update_priorities(base.copy(), np.array([False, True, False]), base)

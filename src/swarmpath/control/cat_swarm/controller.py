@@ -62,6 +62,7 @@ from swarmpath.control.pibt.core import (
     PUSHED,
     GridGraph,
     decision_order,
+    escape_claims,
     pibt_step_escaping,
     update_priorities,
 )
@@ -397,7 +398,11 @@ class CatSwarmController(Controller):
         # a robot that must leave ranks the look-ahead's tiers first (all its candidates stay),
         # then, near a random walker, the chance of being caught (in units of 1 / evasion_weight)
         evade = np.zeros((n, 9)) if walker_risk is None else np.floor(self.evasion_weight * walker_risk)
-        rank = dense_ranks([tier, evade] + keys, valid)
+        # within its look-ahead tier a robot pushed aside leaves the cells that robots which must
+        # leave need to get away (pibt/core.py)
+        must = in_danger & ~valid[:, K.STAY]
+        claims = escape_claims(cells, valid, tier // TIER_SPAN, must, (self.height_, self.width_))
+        rank = dense_ranks([tier // TIER_SPAN, claims, tier, evade] + keys, valid)
         order = decision_order(self.priority_, in_danger | threatened, valid.sum(axis=1))
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
         result = pibt_step_escaping(self.graph_, flat, rank, valid, self.rng_.random((n, 9)), order,

@@ -44,6 +44,7 @@ from swarmpath.control.pibt.core import (
     GridGraph,
     check_connectivity,
     decision_order,
+    escape_claims,
     pibt_step_escaping,
     static_moves,
     update_priorities,
@@ -75,6 +76,10 @@ TIER_WEIGHT = 1e8
 #: Times the cost of :func:`~swarmpath.control.cornered.last_resort` for a cornered robot:
 #: the least likely hit first, the distance to the goal last.
 LAST_RESORT_WEIGHT = 1e12
+#: Added per robot that must leave its cell and needs a candidate's cell to get away
+#: (:func:`~swarmpath.control.pibt.core.escape_claims`): after the look-ahead tier, before
+#: everything else.
+CLAIM_WEIGHT = 1e7
 
 
 @register_controller("pibt")
@@ -450,6 +455,10 @@ class PIBTController(Controller):
                 allowed[stuck] = ok
                 dist[stuck] = np.where(ok, np.nan_to_num(goal_dist[stuck]) + LAST_RESORT_WEIGHT * cost, np.nan)
                 ranks[stuck] = 0
+            # robots pushed aside leave the cells that robots which must leave need to get away
+            must = urgent & ~allowed[:, STAY]
+            if must.any():
+                dist += CLAIM_WEIGHT * escape_claims(cells, allowed, ranks, must, (self.height_, self.width_))
         self.priority_ = update_priorities(self.priority_, at_goal, self.base_)
         # robots that must or should leave their cell first, the most constrained first
         order = decision_order(self.priority_, urgent | threatened, allowed.sum(axis=1))

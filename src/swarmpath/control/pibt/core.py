@@ -90,6 +90,41 @@ def decision_order(priority: FloatArray, urgent: BoolArray | None = None,
     return np.lexsort((-priority, np.where(urgent, options, 0), ~urgent)).astype(np.int32)
 
 
+def escape_claims(cells: IntArray, allowed: BoolArray, rank: NDArray[np.int64], must: BoolArray,
+                  shape: tuple[int, int]) -> IntArray:
+    """How many robots need each move's cell to get away (n, 9): for every move of a robot
+    that need not leave (``~must``), the number of robots that must leave their cell
+    (``must``: a moving obstacle may be there next step) and rank that cell among their best
+    ways out (``allowed`` (n, 9) candidates of the lowest ``rank`` (n, 9), staying excluded).
+    0 for staying, for moves off the grid ``shape`` (height, width) and for robots in ``must``.
+
+    Why: PIBT lets a pushed robot take its best free cell, and that may be the one way out of
+    a robot that decides after it (64 x 64 acceptance world, seed 3091: a robot on its goal in
+    a pocket and the robot beside it both had to leave south; the robots below, pushed
+    aside, took the cell one of them needed, and a walker caught it). A pushed robot that
+    ranks such cells after its others leaves them to the robots that need them."""
+    cells = np.asarray(cells, np.int64).reshape(-1, 2)
+    allowed = np.asarray(allowed, bool)
+    must = np.asarray(must, bool)
+    n = len(cells)
+    out = np.zeros((n, 9), np.int64)
+    if n == 0 or not must.any():
+        return out
+    h, w = shape
+    dest = cells[:, None, :] + GRID_MOVES[None]                                   # (n, 9, 2)
+    inside = (dest[..., 0] >= 0) & (dest[..., 0] < w) & (dest[..., 1] >= 0) & (dest[..., 1] < h)
+    flat = np.where(inside, dest[..., 1] * w + dest[..., 0], -1)
+    ways = allowed & inside
+    ways[:, STAY] = False
+    best = np.where(ways, rank, np.iinfo(np.int64).max).min(axis=1, keepdims=True)
+    need = ways & (rank == best) & must[:, None]
+    count = np.bincount(flat[need], minlength=h * w)
+    out = np.where(inside, count[np.maximum(flat, 0)], 0)
+    out[:, STAY] = 0
+    out[must] = 0
+    return out
+
+
 def conflict_table(radius: float, resolution: float) -> NDArray[np.uint8]:
     """The checker's rule for two robots of ``radius`` as a C-contiguous uint8 table (25, 9, 9)
     (:func:`swarmpath.world.move_rules.grid_conflict_table`). Using the largest radius of a
