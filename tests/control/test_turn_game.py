@@ -53,15 +53,15 @@ def _successors(world: World, p: np.ndarray, v: np.ndarray) -> list[tuple[np.nda
 
 
 def _swept(p: np.ndarray, q: np.ndarray) -> set[tuple[int, int]]:
-    """Cells whose open unit square meets the unit box's sweep from p to q: those for which
-    some t in [0, 1] puts the box p + t (q - p) + (-0.5, 0.5)^2 over the square on both axes
-    at once (the two open intervals of t, one per axis, intersect within [0, 1])."""
+    """Cells whose centre the unit box's sweep from p to q holds: those for which some t in
+    [0, 1] puts the centre inside the open box p + t (q - p) + (-0.5, 0.5)^2 on both axes at
+    once (the two open intervals of t, one per axis, intersect within [0, 1])."""
     d = q - p
     lo, hi = np.minimum(p, q) - 0.5, np.maximum(p, q) + 0.5
 
     def when(axis: int, cell: int) -> tuple[float, float]:
-        # t with  p - 0.5 + t d < cell + 1  and  p + 0.5 + t d > cell
-        a, b = cell + 1 - (p[axis] - 0.5), cell - (p[axis] + 0.5)
+        # t with  p - 0.5 + t d < cell + 0.5  and  p + 0.5 + t d > cell + 0.5
+        a, b = cell + 1 - p[axis], cell - p[axis]
         if abs(d[axis]) < 1e-12:
             return (-np.inf, np.inf) if a > 0 > b else (np.inf, -np.inf)
         t1, t2 = a / d[axis], b / d[axis]

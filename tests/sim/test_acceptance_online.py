@@ -194,18 +194,19 @@ def test_ways_out_that_a_sweep_box_or_a_failed_push_used_to_close() -> None:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("controller", ["cat-swarm", "pibt"])
-def test_robots_react_to_bounce8_turns_they_could_not_outguess(controller) -> None:
+def test_robots_leave_nooks_a_turning_bounce8_obstacle_heads_for(controller) -> None:
     """Seeds 1606 and 1673: a robot waits on its goal in a nook as a bounce8 obstacle heads
-    for the wall beside it (1606), or in a corridor between two (1673). The open-loop
-    look-ahead takes all seven turns at once and finds no cell safer than the goal; after the
-    turn no move is left and the obstacle hits the robot. The turn game
-    (control/turn_game.py) plays the turn as a game, four steps ahead, and the robot leaves in
-    time: every robot home, no contact of any kind."""
+    for the wall beside it (1606), or in a corridor between two (1673). Under the square
+    cover of point robots the open-loop look-ahead took all seven turns at once, found no cell
+    safer than the goal, and the obstacle hit the robot after its turn; the turn game
+    (control/turn_game.py, checked against a brute-force game in
+    tests/control/test_turn_game.py) got it out in time. Since cells count by their centres
+    the nooks leave room either way (no seed of 1500-2299 is saved by the game any more,
+    docs/algorithms/pibt.md); every robot home, no contact of any kind, with and without it."""
     for seed in (1606, 1673):
-        traj, success = checked_run(controller, seed, turn_game=False)
-        assert any(c.other % 2 == 0 for c in traj.contacts), (controller, seed)   # a bounce8 obstacle
-        traj, success = checked_run(controller, seed)
-        assert success, (controller, seed, traj.status, len(traj.contacts))
+        for turn_game in (True, False):
+            traj, success = checked_run(controller, seed, turn_game=turn_game)
+            assert success, (controller, seed, turn_game, traj.status, len(traj.contacts))
 
 
 @pytest.mark.slow
@@ -252,15 +253,16 @@ def goal_danger_steps(seed: int, steps: int = 250) -> tuple[np.ndarray, int]:
 @pytest.mark.slow
 def test_all_robots_home_at_once_within_250_steps_is_out_of_reach_on_seed_0() -> None:
     """Why robots cannot simply sit on their goals until all are home: on seed 0, after the
-    earliest step at which all robots could first be home, no step up to 250 leaves every goal
-    out of an obstacle's next-step reach. A robot standing there would be hit at the next step
-    whenever the obstacle moves its way. All home at once therefore comes only from robots
-    waiting beside threatened goals and stepping on together in the step that ends the run
+    earliest step at which all robots could first be home, more than nine steps in ten up to
+    250 have some goal within an obstacle's next-step reach (cells by their centres; 11 of 189
+    steps are clear). A robot standing there would be hit at the next step whenever the
+    obstacle moves its way. All home at once therefore comes mostly from robots waiting beside
+    threatened goals and stepping on together in the step that ends the run
     (swarmpath.control.finish; the test above)."""
     count, first = goal_danger_steps(0)
     assert first > 23
-    assert np.all(count[first - 1:] > 0)
-    assert np.mean(count) > 3      # on average more than three goals are in reach at every step
+    assert np.mean(count[first - 1:] > 0) > 0.9
+    assert np.mean(count) > 2      # on average more than two goals are in reach at every step
 
 
 # ---------------------------------------------------------------------------- MovingAI

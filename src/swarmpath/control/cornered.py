@@ -54,8 +54,8 @@ def hit_chances(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
     :func:`move_weights`, leaving out the obstacles ``skip`` (m,) marks; and whether an
     obstacle (any) covers the cell where it stands now (k, c): a contact in this very step. A
     cell is covered as in the forecast's D_1: the swept footprint, grown by the robots' radius
-    (:meth:`~swarmpath.control.hazards.ObstacleForecast.sweep_ranges`), overlaps the cell's
-    open square."""
+    (:meth:`~swarmpath.control.hazards.ObstacleForecast.sweep_ranges`), holds the cell's
+    centre."""
     cells = np.asarray(cells, np.int64)
     k, c = cells.shape[:2]
     if forecast.m == 0 or k == 0:
@@ -117,9 +117,8 @@ def last_resort(forecast: ObstacleForecast, positions: FloatArray, previous: Flo
     :data:`CHANCE_RESOLUTION`) plus ``(9 - ways) * CHANCE_RESOLUTION / 10``: the least likely
     hit first, then the most ways on. The caller adds the distance to the goal below both.
 
-    Why the walkers' exact chance: the cell boxes count a walker's diagonal step past a robot
-    beside it as a hit, which the checker's geometry does not, and a move that is safe this
-    step can be a dead end the walker closes the next; the evasion value weighs both."""
+    Why the walkers' exact chance: a move that is safe this step can be a dead end the walker
+    closes the next; the evasion value weighs that, the one-step chance does not."""
     positions = np.asarray(positions, float)
     chance, now = hit_chances(forecast, positions, previous, dest, skip=walkers if walker_risk is not None else None)
     if walker_risk is not None:

@@ -201,8 +201,8 @@ def gathering_positions(world: World, obs: Observation, forecast, grid, moves: N
     radii = world.radii
     ok &= ~world.static_hits(flat_t, flat_g, np.repeat(radii, 9)).reshape(n, 9)
     ok &= ~forecast.crossings(pos, targets, obs.obstacle_positions)
-    if forecast.centre_cover:   # disc robots: a cell speaks for its centre only
-        ok &= ~forecast.off_centre_hits(targets, grid.centers(dest), obs.obstacle_positions, obs.obstacle_previous)
+    # a cell speaks for its centre only: a robot resting off it is checked where it rests
+    ok &= ~forecast.off_centre_hits(targets, grid.centers(dest), obs.obstacle_positions, obs.obstacle_previous)
     if not ok.any(axis=1).all():
         return None
     # one cell each, the most constrained robot first; moves now must not conflict

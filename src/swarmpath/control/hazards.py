@@ -8,15 +8,12 @@ position an obstacle can take next: one for a straight move, every free directio
 bounces or walks at random, anything within its speed when the model may turn to any angle.
 
 Footprints are handled through their bounding boxes on the grid, grown by the robots'
-radius. For point robots a cell is *covered* when the open box overlaps the cell's open
-square: a point robot anywhere in the closed square of an uncovered cell (centre or corner)
-is strictly outside the footprint, and a move between the centres of two uncovered 8-adjacent
-cells stays outside it (the move lies in the two closed squares and, for a diagonal, their
-common corner). For disc robots a cell is covered when its centre lies inside the grown box:
-the square rule would take the cells around every footprint from them, though a disc resting
-on the next centre is clear. A disc's diagonal move can then graze a footprint between two
-clear centres (checked by :meth:`ObstacleForecast.crossings`), and a disc resting off a
-centre is checked where it rests (:meth:`ObstacleForecast.sweep_hits`). A footprint's move
+radius. A cell is *covered* when its centre lies inside the grown box: robots (points or
+discs) rest on cell centres, so one resting on an uncovered centre is clear of the footprint.
+The squares a box overlaps (the rule for point robots until 2026-11) take whole rows of cells
+beside an obstacle a hair off the grid. A move between two clear centres can pass a footprint
+beside it (checked by :meth:`ObstacleForecast.crossings`), and a robot resting off a centre is
+checked where it rests (:meth:`ObstacleForecast.sweep_hits`). A footprint's move
 covers the cells its swept region covers, row by row (:func:`sweep_cell_ranges`), not the
 sweep's bounding box: a diagonal sweep is a hexagon.
 
@@ -211,10 +208,9 @@ class ObstacleForecast:
         # what robots must keep out of: the footprint grown by the robots' radius
         self.keep_lo = self.lo - robot_radius
         self.keep_hi = self.hi + robot_radius
-        # disc robots: a cell is covered when its centre lies in the grown box (centre cover);
-        # point robots: when the box overlaps its square (the moves then need no own check)
+        # a cell is covered when its centre lies in the grown box: robots rest on centres, and
+        # their moves between centres are checked on their own (crossings)
         self.robot_radius = float(robot_radius)
-        self.centre_cover = self.robot_radius > 0
         self.code = np.array([motion_code(o) for o in obs], np.int64)
         self.base_code = self.code.copy()
         # any-heading models that move as bounce does on known steps (turn-every between turns)
@@ -249,21 +245,27 @@ class ObstacleForecast:
 
     def cover_ranges(self, lo: FloatArray, hi: FloatArray, margin: int = 0) -> IntArray:
         """The cells (ranges (k, 4)) that open boxes (lo, hi) (k, 2) of footprints grown by the
-        robots' radius cover: for point robots the cells whose squares they overlap
-        (:func:`box_cell_ranges`), for disc robots the cells whose centres they hold
-        (:func:`centre_cell_ranges`): a disc resting on a centre outside the grown box is
-        clear of the footprint, and a disc's diagonal move past a footprint, which can touch it
-        between two clear centres, is checked on its own (:meth:`crossings`)."""
-        if self.centre_cover:
-            return centre_cell_ranges(lo, hi, self.resolution, margin)
-        return box_cell_ranges(lo, hi, self.resolution, margin)
+        robots' radius cover: the cells whose centres they hold (:func:`centre_cell_ranges`).
+        A robot (point or disc) resting on a centre outside the grown box is clear of the
+        footprint; a move between two clear centres, which can pass a footprint beside it, is
+        checked on its own (:meth:`crossings`), as is a robot resting off a centre
+        (:meth:`off_centre_hits`).
+
+        Why not the squares a box overlaps (the rule for point robots until 2026-11): a
+        bounce8 obstacle going diagonally rests off the grid, and its one-cell box then
+        overlaps four squares, its step six; running along a wall a hair off the row centre it
+        shut the row beside it too, so a robot on its goal at the edge could only flee ahead
+        of it (64 x 64 acceptance world, seed 3046: chased 18 cells, the run cut off at the
+        budget)."""
+        return centre_cell_ranges(lo, hi, self.resolution, margin)
 
     def sweep_ranges(self, a: FloatArray, b: FloatArray, lo: FloatArray, hi: FloatArray, margin: int = 0
                      ) -> tuple[IntArray, IntArray]:
         """The cells (ranges (q, 4), and the sweep of each (q,)) that footprints of box offsets
         ``lo``, ``hi`` (k, 2), grown by the robots' radius already, cover while sweeping from
-        ``a`` to ``b`` (k, 2): :func:`sweep_cell_ranges` with this forecast's cover rule."""
-        return sweep_cell_ranges(a, b, lo, hi, self.resolution, self.centre_cover, margin)
+        ``a`` to ``b`` (k, 2): :func:`sweep_cell_ranges` with this forecast's cover rule (the
+        centres they hold)."""
+        return sweep_cell_ranges(a, b, lo, hi, self.resolution, True, margin)
 
     def at_step(self, step: int, positions: FloatArray | None = None) -> None:
         """The obstacles have made their move of step ``step``: an any-heading model that
@@ -625,8 +627,9 @@ class ObstacleForecast:
         bounding box (exact for boxes); for disc robots, comes closer to its footprint than the
         radius (the checker's phase-2 rule, :func:`~swarmpath.world.move_rules.footprint_hits`:
         the box grown by the radius would also forbid moves that start in its corners, away
-        from the footprint). Used for robots whose cell an obstacle already covers, that rest
-        off a cell centre, and for every disc robot near an obstacle."""
+        from the footprint). Used for every robot near an obstacle: the cover speaks for the
+        centres only (:meth:`cover_ranges`), and a move between two clear centres can pass a
+        footprint beside it."""
         from swarmpath.world.geometry import segment_crosses_open_box
 
         k, c = ends.shape[:2]
@@ -641,7 +644,7 @@ class ObstacleForecast:
                 continue
             a = np.repeat(starts[near], c, axis=0)
             b = ends[near].reshape(-1, 2)
-            if self.centre_cover:
+            if self.robot_radius > 0:
                 shape = self.world.moving_obstacles[j].placed((0.0, 0.0))
                 hit = footprint_hits(shape, a - p[j], b - p[j], np.full(len(a), self.robot_radius))
             else:

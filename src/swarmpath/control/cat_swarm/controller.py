@@ -457,17 +457,13 @@ class CatSwarmController(Controller):
         dest = copies[r]
         v = valid[r] & ~hz.at(hz.covered[0], dest)  # never where an obstacle may be next step
         in_danger[r] = hz.at(hz.covered[0], cells[r])
-        off_centre = np.linalg.norm(pos[r] - self.grid_.centers(cells[r]), axis=1) > 1e-9
-        if fc.centre_cover:
-            # a disc robot's cell counts as covered by its centre only: one resting or ending
-            # its move off the centre (an exact goal) is checked where it rests
-            now, before = obs.obstacle_positions, obs.obstacle_previous
-            cen = self.grid_.centers(dest.reshape(-1, 2)).reshape(dest.shape[0], 9, 2)
-            v &= ~fc.off_centre_hits(targets[r], cen, now, before)
-            in_danger[r] |= fc.off_centre_hits(pos[r], self.grid_.centers(cells[r]), now, before)
-        check = np.flatnonzero(in_danger[r] | off_centre | fc.centre_cover)   # disc robots: every move
-        if len(check):
-            v[check] &= ~fc.crossings(pos[r[check]], targets[r[check]], obs.obstacle_positions)
+        # a cell counts as covered by its centre only: a robot resting or ending its move off
+        # the centre (an exact goal) is checked where it rests, and every move on its way
+        now, before = obs.obstacle_positions, obs.obstacle_previous
+        cen = self.grid_.centers(dest.reshape(-1, 2)).reshape(dest.shape[0], 9, 2)
+        v &= ~fc.off_centre_hits(targets[r], cen, now, before)
+        in_danger[r] |= fc.off_centre_hits(pos[r], self.grid_.centers(cells[r]), now, before)
+        v &= ~fc.crossings(pos[r], targets[r], now)
         # look-ahead: keep to the most cautious tier that leaves the robot some choice; a robot
         # ending the step on its exact goal off the centre (a cell corner, say) can reach fewer
         # cells from there next step

@@ -371,20 +371,15 @@ class PIBTController(Controller):
             dest = cells[rows, None, :] + GRID_MOVES[None]
             allowed[rows] &= ~hz.at(hz.covered[0], dest)
             urgent[rows] = hz.at(hz.covered[0], cells[rows])
-            if self.forecast_.centre_cover:
-                # a disc robot off a cell centre (an exact goal) is checked where it rests
-                fc, now, before = self.forecast_, obs.obstacle_positions, obs.obstacle_previous
-                ends = self.grid_.centers(self._cells(special_targets.reshape(-1, 2))).reshape(special_targets.shape)
-                allowed[special] &= ~fc.off_centre_hits(special_targets, ends, now, before)
-                urgent |= fc.off_centre_hits(pos, centre, now, before)
-            # a robot an obstacle already reaches, or off its cell centre, may cut through the
-            # obstacle where it stands during the move (an obstacle off the grid, a diagonal);
-            # so may any disc robot, whose cells count as covered by their centres only
-            check = rows[urgent[rows] | (np.abs(pos[rows] - centre[rows]).max(axis=1) > 1e-9)
-                         | self.forecast_.centre_cover]
-            if len(check):
-                reach_targets, _ = self._targets(pos, cells, check)
-                allowed[check] &= ~self.forecast_.crossings(pos[check], reach_targets, obs.obstacle_positions)
+            # cells count as covered by their centres only: a robot off a cell centre (an exact
+            # goal) is checked where it rests, and every move near an obstacle on its way (a
+            # diagonal past an obstacle off the grid, or one already reaching the robot)
+            fc, now, before = self.forecast_, obs.obstacle_positions, obs.obstacle_previous
+            ends = self.grid_.centers(self._cells(special_targets.reshape(-1, 2))).reshape(special_targets.shape)
+            allowed[special] &= ~fc.off_centre_hits(special_targets, ends, now, before)
+            urgent |= fc.off_centre_hits(pos, centre, now, before)
+            reach_targets, _ = self._targets(pos, cells, rows)
+            allowed[rows] &= ~fc.crossings(pos[rows], reach_targets, now)
             walker_risk = None
             if self.evasion_ is not None:
                 # near a random walker: each move's exact chance of being caught
