@@ -118,8 +118,12 @@ def escape_claims(cells: IntArray, allowed: BoolArray, rank: NDArray[np.int64], 
     ways[:, STAY] = False
     best = np.where(ways, rank, np.iinfo(np.int64).max).min(axis=1, keepdims=True)
     need = ways & (rank == best) & must[:, None]
-    count = np.bincount(flat[need], minlength=h * w)
-    out = np.where(inside, count[np.maximum(flat, 0)], 0)
+    # the claimed cells and their counts (a few per robot in danger, not a map-sized array)
+    claimed, count = np.unique(flat[need], return_counts=True)
+    if len(claimed) == 0:
+        return out
+    at = np.minimum(np.searchsorted(claimed, flat), len(claimed) - 1)
+    out = np.where(inside & (claimed[at] == flat), count[at], 0)
     out[:, STAY] = 0
     out[must] = 0
     return out
