@@ -67,6 +67,7 @@ from swarmpath.control.pibt.core import (
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
+from swarmpath.control.pibt.joint_escape import prefer_joint_escapes
 from swarmpath.control.pibt.rescue import (
     RESCUE_AFTER,
     RESCUE_TIME,
@@ -87,6 +88,10 @@ BoolArray = NDArray[np.bool_]
 
 #: Keys of one look-ahead tier (``cornered_penalty`` is below it).
 TIER_SPAN = 16
+
+#: In the joint choice of robots in danger, a claimed cell costs this much, between a tier
+#: (1e8) and the cornered penalty (1e6), as ``CLAIM_WEIGHT`` in pibt.
+JOINT_CLAIM = 1e7
 
 
 @register_controller("cat-swarm")
@@ -156,6 +161,9 @@ class CatSwarmController(Controller):
             steps (24; 0: off), LaCAM plans the rest from where the robots stand, in at most
             ``rescue_time`` seconds (5), and they follow it (:mod:`swarmpath.control.pibt.rescue`;
             as in ``pibt``).
+        joint_escape : robots in danger within two cells of one another choose their copies
+            together, the combination of least total cost in ranking order that the checker
+            allows (:mod:`swarmpath.control.pibt.joint_escape`; True; as in ``pibt``).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -167,7 +175,8 @@ class CatSwarmController(Controller):
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
                  hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True,
                  detour_after: int = DETOUR_AFTER, turn_game: bool = True, evasion_veto: bool = True,
-                 rescue_after: int = RESCUE_AFTER, rescue_time: float = RESCUE_TIME):
+                 rescue_after: int = RESCUE_AFTER, rescue_time: float = RESCUE_TIME, joint_escape: bool = True):
+        self.joint_escape = joint_escape
         self.rescue_after = rescue_after
         self.rescue_time = rescue_time
         self.evasion_veto = evasion_veto
@@ -223,7 +232,7 @@ class CatSwarmController(Controller):
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"cat-swarm: detour_after must be a whole number >= 0, got {self.detour_after!r}")
-        for flag in ("turn_game", "evasion_veto"):
+        for flag in ("turn_game", "evasion_veto", "joint_escape"):
             if not isinstance(getattr(self, flag), (bool, np.bool_)):
                 raise ConfigError(f"cat-swarm: {flag} must be True or False, got {getattr(self, flag)!r}")
 
@@ -403,6 +412,14 @@ class CatSwarmController(Controller):
         must = in_danger & ~valid[:, K.STAY]
         claims = escape_claims(cells, valid, tier // TIER_SPAN, must, (self.height_, self.width_))
         rank = dense_ranks([tier // TIER_SPAN, claims, tier, evade] + keys, valid)
+        danger = np.flatnonzero(in_danger | threatened)
+        if self.joint_escape and len(danger) >= 2:
+            # robots in danger beside one another choose their moves together (pibt/joint_escape.py),
+            # by a cost that orders each robot's moves as its ranking does (the same weights as pibt's)
+            cost = np.where(valid, (tier // TIER_SPAN) * 1e8 + claims * JOINT_CLAIM + (tier % TIER_SPAN) * 1e6
+                            + evade + rank, np.nan)
+            rank = dense_ranks([prefer_joint_escapes(cost, cells, valid, danger, self.graph_.table,
+                                                     (self.height_, self.width_), JOINT_CLAIM)], valid)
         order = decision_order(self.priority_, in_danger | threatened, valid.sum(axis=1))
         flat = (cells[:, 1] * self.width_ + cells[:, 0]).astype(np.int32)
         result = pibt_step_escaping(self.graph_, flat, rank, valid, self.rng_.random((n, 9)), order,

@@ -50,6 +50,7 @@ from swarmpath.control.pibt.core import (
     update_priorities,
 )
 from swarmpath.control.pibt.exact import hold_conflicts
+from swarmpath.control.pibt.joint_escape import prefer_joint_escapes
 from swarmpath.control.pibt.rescue import (
     RESCUE_AFTER,
     RESCUE_TIME,
@@ -180,6 +181,11 @@ class PIBTController(Controller):
         (default); 0: off.
     rescue_time : float
         Seconds one such LaCAM search may take (5); at most three searches a run.
+    joint_escape : bool
+        With moving obstacles: robots that must or should leave their cells and stand within
+        two cells of one another choose their moves together, the combination of least total
+        ranking key that the checker allows (:mod:`swarmpath.control.pibt.joint_escape`),
+        instead of whoever decides first taking the cell the next one needed. True (default).
     """
 
     capabilities = Capabilities(grid_based=True, moving_obstacles=True, multi_robot=True, randomized=True)
@@ -189,7 +195,8 @@ class PIBTController(Controller):
                  finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
                  evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER,
                  turn_game: bool = True, evasion_veto: bool = True, rescue_after: int = RESCUE_AFTER,
-                 rescue_time: float = RESCUE_TIME):
+                 rescue_time: float = RESCUE_TIME, joint_escape: bool = True):
+        self.joint_escape = joint_escape
         self.rescue_after = rescue_after
         self.rescue_time = rescue_time
         self.evasion_veto = evasion_veto
@@ -224,7 +231,7 @@ class PIBTController(Controller):
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"pibt: detour_after must be a whole number >= 0, got {self.detour_after!r}")
-        for flag in ("turn_game", "evasion_veto"):
+        for flag in ("turn_game", "evasion_veto", "joint_escape"):
             if not isinstance(getattr(self, flag), (bool, np.bool_)):
                 raise ConfigError(f"pibt: {flag} must be True or False, got {getattr(self, flag)!r}")
         n = world.n_robots
@@ -454,6 +461,10 @@ class PIBTController(Controller):
             must = urgent & ~allowed[:, STAY]
             if must.any():
                 dist += CLAIM_WEIGHT * escape_claims(cells, allowed, ranks, must, (self.height_, self.width_))
+            if self.joint_escape:
+                # robots in danger beside one another choose their moves together (joint_escape.py)
+                dist = prefer_joint_escapes(dist, cells, allowed, np.flatnonzero(urgent | threatened),
+                                            self.graph_.table, (self.height_, self.width_), CLAIM_WEIGHT)
         self.priority_ = update_priorities(self.priority_, at_goal, self.base_)
         # robots that must or should leave their cell first, the most constrained first
         order = decision_order(self.priority_, urgent | threatened, allowed.sum(axis=1))
