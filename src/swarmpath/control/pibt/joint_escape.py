@@ -23,6 +23,9 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 
 from swarmpath.world.move_rules import GRID_MOVES
 
@@ -35,28 +38,20 @@ JOINT_MAX_GROUP = 6
 
 def danger_groups(cells: NDArray[np.int64], members: NDArray[np.int64]) -> list[NDArray[np.int64]]:
     """The robots ``members`` split into groups whose cells are within two cells
-    (Chebyshev) of one another, chained; only groups of two or more are returned."""
+    (Chebyshev) of one another, chained; only groups of two or more are returned. Pairs come
+    from a k-d tree, so thousands of robots in danger cost no k x k matrix."""
     members = np.asarray(members, np.int64)
     if len(members) < 2:
         return []
     c = np.asarray(cells, np.int64)[members]
-    near = np.abs(c[:, None, :] - c[None, :, :]).max(axis=2) <= 2
-    label = -np.ones(len(members), np.int64)
-    groups = []
-    for s in range(len(members)):
-        if label[s] >= 0:
-            continue
-        label[s] = s
-        stack, group = [s], [s]
-        while stack:
-            u = stack.pop()
-            for v in np.flatnonzero(near[u] & (label < 0)):
-                label[v] = s
-                stack.append(int(v))
-                group.append(int(v))
-        if len(group) >= 2:
-            groups.append(members[np.sort(group)])
-    return groups
+    pairs = cKDTree(c).query_pairs(2.0 + 1e-9, p=np.inf, output_type="ndarray")
+    if len(pairs) == 0:
+        return []
+    k = len(members)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(k, k))
+    _, label = connected_components(graph, directed=False)
+    size = np.bincount(label)
+    return [members[np.flatnonzero(label == g)] for g in np.flatnonzero(size >= 2)]
 
 
 def best_joint_moves(cells: NDArray[np.int64], cost: NDArray[np.float64], allowed: NDArray[np.bool_],
