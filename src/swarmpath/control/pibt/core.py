@@ -107,26 +107,37 @@ def escape_claims(cells: IntArray, allowed: BoolArray, rank: NDArray[np.int64], 
     allowed = np.asarray(allowed, bool)
     must = np.asarray(must, bool)
     n = len(cells)
-    out = np.zeros((n, 9), np.int64)
     if n == 0 or not must.any():
-        return out
-    h, w = shape
-    dest = cells[:, None, :] + GRID_MOVES[None]                                   # (n, 9, 2)
-    inside = (dest[..., 0] >= 0) & (dest[..., 0] < w) & (dest[..., 1] >= 0) & (dest[..., 1] < h)
-    flat = np.where(inside, dest[..., 1] * w + dest[..., 0], -1)
-    ways = allowed & inside
+        return np.zeros((n, 9), np.int64)
+    flat = move_cells(cells, shape)
+    ways = allowed & (flat >= 0)
     ways[:, STAY] = False
     best = np.where(ways, rank, np.iinfo(np.int64).max).min(axis=1, keepdims=True)
     need = ways & (rank == best) & must[:, None]
-    # the claimed cells and their counts (a few per robot in danger, not a map-sized array)
-    claimed, count = np.unique(flat[need], return_counts=True)
-    if len(claimed) == 0:
-        return out
-    at = np.minimum(np.searchsorted(claimed, flat), len(claimed) - 1)
-    out = np.where(inside & (claimed[at] == flat), count[at], 0)
+    out = claims_on_moves(flat, flat[need])
     out[:, STAY] = 0
     out[must] = 0
     return out
+
+
+def move_cells(cells: IntArray, shape: tuple[int, int]) -> IntArray:
+    """The flat cell ``y * width + x`` (n, 9) each move of the robots on ``cells`` (n, 2)
+    reaches, -1 off the grid ``shape`` (height, width)."""
+    h, w = shape
+    dest = np.asarray(cells, np.int64).reshape(-1, 1, 2) + GRID_MOVES[None]       # (n, 9, 2)
+    inside = (dest[..., 0] >= 0) & (dest[..., 0] < w) & (dest[..., 1] >= 0) & (dest[..., 1] < h)
+    return np.where(inside, dest[..., 1] * w + dest[..., 0], -1)
+
+
+def claims_on_moves(flat: IntArray, claimed: IntArray) -> IntArray:
+    """How many entries of ``claimed`` (flat cells, repeats counted) each move's cell ``flat``
+    (n, 9) of :func:`move_cells` is (n, 9); 0 off the grid. Sorts the few claimed cells
+    instead of building a map-sized array."""
+    cells, count = np.unique(np.asarray(claimed, np.int64), return_counts=True)
+    if len(cells) == 0:
+        return np.zeros(np.shape(flat), np.int64)
+    at = np.minimum(np.searchsorted(cells, flat), len(cells) - 1)
+    return np.where((flat >= 0) & (cells[at] == flat), count[at], 0)
 
 
 def conflict_table(radius: float, resolution: float) -> NDArray[np.uint8]:

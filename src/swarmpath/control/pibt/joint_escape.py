@@ -27,7 +27,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from swarmpath.world.move_rules import GRID_MOVES
+from swarmpath.control.pibt.core import claims_on_moves, move_cells
 
 #: depth-first search nodes visited per group before giving up (the group keeps PIBT's order)
 JOINT_BUDGET = 20_000
@@ -134,14 +134,8 @@ def prefer_joint_escapes(dist: NDArray[np.float64], cells: NDArray[np.int64], al
         return dist
     out = dist.copy()
     out[chosen, moves[chosen]] = np.nanmin(np.where(allowed[chosen], out[chosen], np.nan), axis=1) - 1.0
-    h, w = shape
-    target = cells[chosen] + GRID_MOVES[moves[chosen]]
-    claimed = np.sort(target[:, 1] * w + target[:, 0])
-    dest = cells[:, None, :] + GRID_MOVES[None]
-    inside = (dest[..., 0] >= 0) & (dest[..., 0] < w) & (dest[..., 1] >= 0) & (dest[..., 1] < h)
-    flat = np.where(inside, dest[..., 1] * w + dest[..., 0], -1)
-    at = np.minimum(np.searchsorted(claimed, flat), len(claimed) - 1)
-    hit = inside & (claimed[at] == flat)
+    flat = move_cells(cells, shape)
+    hit = claims_on_moves(flat, flat[chosen, moves[chosen]]) > 0
     hit[chosen] = False
     out += claim_weight * hit
     return out
