@@ -118,3 +118,17 @@ def test_other_robots_keep_off_the_chosen_cells():
         assert out[2, a] == dist[2, a] + (100.0 if claimed else 0.0)
     for i in range(2):
         assert out[i, moves[i]] < np.delete(out[i], moves[i]).min()
+
+
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+@pytest.mark.parametrize("value", ["yes", 1, None])
+def test_a_joint_escape_setting_that_is_not_true_or_false_is_one_clear_error(controller, value):
+    from swarmpath.errors import ConfigError
+    from swarmpath.registry import CONTROLLERS
+    from swarmpath.world import MovingObstacle, RandomWalk, Rect, RectBounds, Robot, World
+
+    world = World(RectBounds(8, 8), robots=(Robot("r0", (0.5, 0.5), (6.5, 6.5)),),
+                  moving_obstacles=(MovingObstacle("m0", Rect((-0.5, -0.5), (0.5, 0.5)), (4.5, 4.5), (1.0, 0.0),
+                                                   RandomWalk()),))
+    with pytest.raises(ConfigError, match="joint_escape must be True or False"):
+        CONTROLLERS.get(controller)(joint_escape=value).reset(world, None, np.random.default_rng(0))
