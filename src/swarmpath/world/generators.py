@@ -1,21 +1,26 @@
 """World generators for tests, benchmarks and sweeps: the antipodal circle, rooms with doors,
-MovingAI maps with disc robots, moving obstacles of every motion model added to a world, and
-the CrowdNav-style crossing (one robot among obstacles that ignore it)."""
+MovingAI maps with disc robots, moving obstacles of every motion model added to a world, the
+CrowdNav-style crossing (one robot among obstacles that ignore it) and the crowded random grid
+among obstacles that never stop (the grid controllers' acceptance world)."""
 from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
 
 import numpy as np
+from scipy.ndimage import label
 
+from swarmpath.errors import ScenarioError
 from swarmpath.world import (
     Bounce,
+    Bounce8,
     Circle,
     RandomWalk,
     Rect,
     RectBounds,
     Redraw,
     Robot,
+    StaticMap,
     TurnEvery,
     Waypoints,
     World,
@@ -136,3 +141,61 @@ def crowd_crossing(n_obstacles: int, seed: int, motion: str = "mixed", size: flo
     robot = Robot("robot", start, goal, radius, robot_speed)
     return World(RectBounds(size, size), moving_obstacles=tuple(obstacles), robots=(robot,), dt=dt,
                  name=f"crowd-{n_obstacles}-{motion}-{seed}")
+
+
+def random_grid_with_movers(seed: int, n_robots: int = 100, n_moving: int = 20, size: int = 64,
+                            density: float = 0.1, motions: tuple | None = None, radius: float = 0.0,
+                            goal_offset: float = 0.0) -> World:
+    """The crowded random grid among obstacles that never stop: a ``size`` x ``size`` map of
+    1 x 1 cells with ``density`` of them blocked at random, ``n_robots`` robots (points, or
+    discs of ``radius``; speed sqrt 2, one 8-neighbour cell a step) on distinct free cells of
+    one connected area with distinct goals there, and ``n_moving`` 1-cell obstacles starting
+    at least 3 cells (Chebyshev) from every robot, heading east, north, west and south in turn
+    at one cell a step. Their motions are bounce8 and random-walk in turn, or the ``motions``
+    (motion model instances) in turn. Each goal is its cell's centre moved by up to
+    ``goal_offset`` along each axis, drawn from its own stream, so the map, robots and
+    obstacles are those of ``goal_offset=0``. Everything is drawn from ``seed``.
+
+    This is the acceptance world of the grid controllers among moving obstacles (100 robots,
+    64 x 64, 20 obstacles; tests/sim/test_acceptance_online.py,
+    benchmarks/bench_moving.py). The connected area is the 4-connected component of a random
+    free cell: with 8-neighbour moves that cut no corner, exactly the cells a robot there can
+    reach. Raises ScenarioError naming the parameter when the numbers cannot make a world.
+    """
+    for name, value, low in (("n_robots", n_robots, 1), ("n_moving", n_moving, 0), ("size", size, 2)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise ScenarioError(f"random_grid_with_movers: {name} must be a whole number >= {low}, got {value!r}")
+    if size > 4096:
+        raise ScenarioError(f"random_grid_with_movers: size must be at most 4096, got {size}")
+    for name, value, high in (("density", density, 0.9), ("radius", radius, 0.5), ("goal_offset", goal_offset, 0.5)):
+        if not isinstance(value, (int, float)) or not 0 <= float(value) <= high:
+            raise ScenarioError(f"random_grid_with_movers: {name} must be a number from 0 to {high}, got {value!r}")
+    rng = np.random.default_rng(seed)
+    blocked = rng.random((size, size)) < density
+    free = np.argwhere(~blocked)
+    if not len(free):
+        raise ScenarioError(f"random_grid_with_movers: density {density} left no free cell on seed {seed}")
+    y, x = free[rng.integers(len(free))]
+    area, _ = label(~blocked)
+    connected = np.argwhere(area == area[y, x])[:, ::-1]                            # (x, y)
+    need = 2 * n_robots + 4 * n_moving
+    if need > len(connected):
+        raise ScenarioError(f"random_grid_with_movers: n_robots and n_moving need {need} free cells "
+                            f"(2 per robot, 4 per obstacle); the connected area of seed {seed} has {len(connected)}")
+    pick = connected[rng.choice(len(connected), size=need, replace=False)]
+    starts, goals, rest = pick[:n_robots], pick[n_robots:2 * n_robots], pick[2 * n_robots:]
+    offset = np.random.default_rng([seed, 1]).uniform(-goal_offset, goal_offset, (n_robots, 2))
+    robots = tuple(Robot(f"r{i}", tuple(starts[i] + 0.5), tuple(goals[i] + 0.5 + offset[i]), radius, float(np.sqrt(2)))
+                   for i in range(n_robots))
+    moving = []
+    headings = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)]
+    for c in rest:
+        if len(moving) == n_moving:
+            break
+        if np.min(np.max(np.abs(starts - c), axis=1)) < 3:
+            continue
+        k = len(moving)
+        motion = (RandomWalk() if k % 2 else Bounce8()) if motions is None else motions[k % len(motions)]
+        moving.append(MovingObstacle(f"m{k}", Rect((-0.5, -0.5), (0.5, 0.5)), tuple(c + 0.5), headings[k % 4], motion))
+    return World(RectBounds(size, size), static_map=StaticMap(blocked, 1.0), moving_obstacles=tuple(moving),
+                 robots=robots, name=f"random{size}-{seed}")

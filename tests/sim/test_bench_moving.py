@@ -1,0 +1,25 @@
+"""benchmarks/bench_moving.py works as documented: on one of the acceptance seeds it runs the
+simulator, finds the success the acceptance test asserts, and says so in its report; bad
+seeds give one clear line."""
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).parents[2] / "benchmarks" / "bench_moving.py"
+
+
+def test_the_benchmark_reports_a_success_on_an_acceptance_seed() -> None:
+    out = subprocess.run([sys.executable, str(SCRIPT), "--seeds", "0:1", "--controllers", "pibt", "--workers", "1"],
+                         capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "pibt: 1 of 1 runs succeed" in out.stdout
+    assert "robot-moving 0" in out.stdout and "failed seeds: none" in out.stdout
+
+
+def test_bad_seeds_give_one_clear_line() -> None:
+    out = subprocess.run([sys.executable, str(SCRIPT), "--seeds", "a:b"], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2
+    assert out.stderr.strip().splitlines() == ["bench_moving.py: --seeds must be 'a:b' or a comma list of whole "
+                                               "numbers, got 'a:b'"]
