@@ -132,3 +132,30 @@ def test_files_are_relative_to_the_suite_not_the_current_folder(tmp_path: Path, 
     e = expand(load_suite(suite))
     assert sorted(j.scenario for j in e.jobs) == ["corridor", "karim2014"]
     assert {j.spec["kind"] for j in e.jobs} == {"builtin", "file"}
+
+
+def test_the_random_grid_among_movers_is_a_seeded_generator(tmp_path: Path) -> None:
+    text = """\
+name: grid
+scenarios:
+  - {generator: random-grid-movers, params: {n_robots: [10, 20], n_moving: 4, size: 24, motions: bounce+redraw}}
+controllers: [pibt]
+seeds: [0, 1]
+"""
+    e = expand(load_suite(suite_in(tmp_path, text)))
+    assert sorted((j.n_agents, j.n_moving, j.seed) for j in e.jobs) == [(10, 4, 0), (10, 4, 1), (20, 4, 0), (20, 4, 1)]
+    assert all(j.seeded_world for j in e.jobs) and {j.motion for j in e.jobs} == {"bounce,redraw"}
+
+
+@pytest.mark.parametrize("params, field", [
+    ("{motions: bounce+waypoints}", "params.motions"),
+    ("{density: 0.95}", "params.density"),
+    ("{n_robots: 5000, size: 16}", "scenarios[0]"),
+])
+def test_random_grid_parameters_that_cannot_work_name_their_field(tmp_path: Path, params: str, field: str) -> None:
+    from swarmpath.bench.sweep.suite import SuiteError
+
+    text = f"name: bad\nscenarios:\n  - {{generator: random-grid-movers, params: {params}}}\ncontrollers: [pibt]\n" \
+           "seeds: [0]\n"
+    with pytest.raises(SuiteError, match=field.replace("[", r"\[").replace("]", r"\]")):
+        expand(load_suite(suite_in(tmp_path, text)))

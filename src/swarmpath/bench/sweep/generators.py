@@ -61,6 +61,22 @@ class MovingAIDiscsParams(_Params):
     speed: _Pos = 1.0
 
 
+#: Motion models the random grid can name (the others need parameters of their own).
+GRID_MOTIONS = ("bounce", "bounce8", "random-walk", "turn-every", "redraw")
+
+
+class RandomGridParams(_Params):
+    n_robots: _Int = 100
+    n_moving: Annotated[int, Strict(), Field(ge=0, le=100_000)] = 20
+    size: Annotated[int, Strict(), Field(ge=2, le=4096)] = 64
+    density: Annotated[float, Strict(), Field(ge=0, le=0.9, allow_inf_nan=False)] = 0.1
+    motions: Annotated[str, Strict(), Field(pattern=f"^({'|'.join(GRID_MOTIONS)})(\\+({'|'.join(GRID_MOTIONS)}))*$")] \
+        = "bounce8+random-walk"
+    radius: Annotated[float, Strict(), Field(ge=0, le=0.5, allow_inf_nan=False)] = 0.0
+    goal_offset: Annotated[float, Strict(), Field(ge=0, le=0.5, allow_inf_nan=False)] = 0.0
+    seed: _Seed | None = None
+
+
 @dataclass(frozen=True)
 class Generator:
     """A world generator the suite can name: its parameter model, whether its world depends
@@ -128,6 +144,16 @@ def _movingai_discs(p: dict[str, Any], seed: int):
     return movingai(p["name"], p["n"], radius=p["radius"], speed=p["speed"])
 
 
+def _random_grid(p: dict[str, Any], seed: int):
+    from swarmpath.registry import MOTIONS
+    from swarmpath.world.generators import random_grid_with_movers
+
+    motions = tuple(MOTIONS.get(name)() for name in p["motions"].split("+"))
+    return random_grid_with_movers(p.get("seed", seed), n_robots=p["n_robots"], n_moving=p["n_moving"],
+                                   size=p["size"], density=p["density"], motions=motions, radius=p["radius"],
+                                   goal_offset=p["goal_offset"])
+
+
 #: World generators a suite can name (``{generator: NAME, params: {...}}``).
 GENERATORS: dict[str, Generator] = {
     "antipodal": Generator(AntipodalParams, _antipodal, description="n disc robots on a circle, each to the "
@@ -137,6 +163,10 @@ GENERATORS: dict[str, Generator] = {
     "crowd-crossing": Generator(CrowdParams, _crowd, seeded=True, description="one disc robot crosses a room "
                                 "among n_obstacles moving discs that ignore it (motion bounce, random-walk or "
                                 "mixed; seed: the job's unless given)"),
+    "random-grid-movers": Generator(RandomGridParams, _random_grid, seeded=True, description="n_robots grid "
+                                    "robots on a size x size map (density blocked) among n_moving 1-cell obstacles "
+                                    "that never stop (motions in turn, e.g. bounce8+random-walk); the grid "
+                                    "controllers' acceptance world; seed: the job's unless given"),
     "movingai-discs": Generator(MovingAIDiscsParams, _movingai_discs, description="a built-in MovingAI map "
                                 "(name, e.g. den312d) with its first n even-10 agents as discs"),
 }
