@@ -115,12 +115,17 @@ def report(method: str, rows: list[dict]) -> None:
     print(f"  ten seeds in a row: {(k / n) ** 10:.2f} (interval {lo ** 10:.2f}-{hi ** 10:.2f})")
     if len(planned) < n:
         print(f"  no plan: {n - len(planned)} runs")
+    per_run = np.mean([sum(r["collisions"].values()) for r in planned]) if planned else 0.0
     print(f"  runs with a contact: robot-robot {kinds['robot_robot']}, robot-static {kinds['robot_static']}, "
-          f"robot-moving {kinds['robot_moving']}; runs ending with a robot away from its goal: {short}")
+          f"robot-moving {kinds['robot_moving']} ({per_run:.2f} contacts a run); runs ending with a robot away "
+          f"from its goal: {short}")
     print(f"  steps: median {np.median(steps):.0f}, 95th percentile {np.percentile(steps, 95):.0f}; "
           f"wall time a run {np.mean([r['wall'] for r in rows]):.2f} s")
     failed = [r["seed"] for r in rows if not r["ok"]]
-    print(f"  failed seeds: {' '.join(map(str, failed[:40])) or 'none'}{' ...' if len(failed) > 40 else ''}")
+    if failed and len(failed) == n:
+        print("  failed seeds: all")
+    else:
+        print(f"  failed seeds: {' '.join(map(str, failed[:40])) or 'none'}{' ...' if len(failed) > 40 else ''}")
 
 
 def fail(message: str) -> None:
