@@ -59,3 +59,13 @@ def test_motions_are_used_in_turn() -> None:
 def test_numbers_that_cannot_make_a_world_raise_one_clear_error(args: dict, field: str) -> None:
     with pytest.raises(ScenarioError, match=field):
         random_grid_with_movers(0, **args)
+
+
+def test_a_random_cell_in_a_small_pocket_falls_back_to_the_largest_area() -> None:
+    # on seed 4136 the random free cell has no free neighbour: the robots go to the largest area
+    world = random_grid_with_movers(4136)
+    starts = np.floor(world.starts).astype(int)
+    goals = np.floor(world.goals).astype(int)
+    field = distance_field(world.static_map.blocked, tuple(int(v) for v in starts[0]))
+    assert np.isfinite(field[starts[:, 1], starts[:, 0]]).all() and np.isfinite(field[goals[:, 1], goals[:, 0]]).all()
+    assert world.n_robots == 100 and len(world.moving_obstacles) == 20

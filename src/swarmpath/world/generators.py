@@ -149,7 +149,8 @@ def random_grid_with_movers(seed: int, n_robots: int = 100, n_moving: int = 20, 
     """The crowded random grid among obstacles that never stop: a ``size`` x ``size`` map of
     1 x 1 cells with ``density`` of them blocked at random, ``n_robots`` robots (points, or
     discs of ``radius``; speed sqrt 2, one 8-neighbour cell a step) on distinct free cells of
-    one connected area with distinct goals there, and ``n_moving`` 1-cell obstacles starting
+    one connected area (that of a random free cell, or the largest when that one is too
+    small) with distinct goals there, and ``n_moving`` 1-cell obstacles starting
     at least 3 cells (Chebyshev) from every robot, heading east, north, west and south in turn
     at one cell a step. Their motions are bounce8 and random-walk in turn, or the ``motions``
     (motion model instances) in turn. Each goal is its cell's centre moved by up to
@@ -179,6 +180,12 @@ def random_grid_with_movers(seed: int, n_robots: int = 100, n_moving: int = 20, 
     area, _ = label(~blocked)
     connected = np.argwhere(area == area[y, x])[:, ::-1]                            # (x, y)
     need = 2 * n_robots + 4 * n_moving
+    if need > len(connected):
+        # the random cell lies in a small pocket: the largest area instead (seeds whose own
+        # area is large enough keep their worlds)
+        sizes = np.bincount(area.ravel())
+        sizes[0] = 0
+        connected = np.argwhere(area == int(np.argmax(sizes)))[:, ::-1]
     if need > len(connected):
         raise ScenarioError(f"random_grid_with_movers: n_robots and n_moving need {need} free cells "
                             f"(2 per robot, 4 per obstacle); the connected area of seed {seed} has {len(connected)}")
