@@ -34,6 +34,7 @@ import math
 import sys
 import time
 from multiprocessing import Pool
+from typing import NoReturn
 
 import numpy as np
 
@@ -44,6 +45,13 @@ from swarmpath.runner import run_world, simulate
 from swarmpath.world.generators import random_grid_with_movers
 
 PEERS = ("pymapf-lacam+follow", "lacam+follow")
+#: Most seeds one run of the script takes (a run is a few seconds each).
+MAX_SEEDS = 100_000
+
+
+def pair_of(method: str) -> tuple[str, str]:
+    """(planner, controller) of a method: 'planner+controller', or a controller with astar."""
+    return tuple(method.split("+", 1)) if "+" in method else ("astar", method)  # type: ignore[return-value]
 
 
 def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -95,7 +103,7 @@ def one(job: tuple[str, int]) -> dict:
         traj = simulate(world, "follow", plan, seed=seed)
         summary = run_summary(world, traj, plan, planner="pymapf-lacam", controller="follow", clearance=False)
     else:
-        planner, controller = method.split("+") if "+" in method else ("astar", method)
+        planner, controller = pair_of(method)
         summary = run_world(world, planner=planner, controller=controller, seed=seed, clearance=False).summary
     return dict(method=method, seed=seed, ok=bool(summary.success), planned=True, steps=int(summary.steps),
                 home=int(summary.reached), n=int(summary.n_robots), collisions=dict(summary.collisions),
@@ -128,7 +136,7 @@ def report(method: str, rows: list[dict]) -> None:
         print(f"  failed seeds: {' '.join(map(str, failed[:40])) or 'none'}{' ...' if len(failed) > 40 else ''}")
 
 
-def fail(message: str) -> None:
+def fail(message: str) -> NoReturn:
     """Bad input: one line on standard error, exit code 2."""
     print(f"bench_moving.py: {message}", file=sys.stderr)
     raise SystemExit(2)
@@ -139,11 +147,12 @@ def seeds_of(text: str) -> list[int]:
     try:
         if ":" in text:
             a, b = (int(v) for v in text.split(":"))
+            if b - a > MAX_SEEDS:
+                fail(f"--seeds names {b - a} seeds (at most {MAX_SEEDS})")
             return list(range(a, b))
         return [int(v) for v in text.split(",")]
     except ValueError:
         fail(f"--seeds must be 'a:b' or a comma list of whole numbers, got {text!r}")
-        return []
 
 
 def main() -> None:
@@ -158,7 +167,7 @@ def main() -> None:
     if not seeds or min(seeds) < 0 or args.workers < 1:
         fail("--seeds must name at least one seed, none below 0, and --workers be >= 1")
     for method in args.controllers:
-        planner, controller = method.split("+", 1) if "+" in method else ("astar", method)
+        planner, controller = pair_of(method)
         if planner not in PLANNERS or controller not in CONTROLLERS:
             fail(f"--controllers: {method!r} is not a controller or planner+controller pair "
                  f"(controllers: {', '.join(CONTROLLERS.names())})")

@@ -23,3 +23,10 @@ def test_bad_seeds_give_one_clear_line() -> None:
     assert out.returncode == 2
     assert out.stderr.strip().splitlines() == ["bench_moving.py: --seeds must be 'a:b' or a comma list of whole "
                                                "numbers, got 'a:b'"]
+
+
+def test_a_seed_range_too_long_gives_one_clear_line_before_any_work() -> None:
+    out = subprocess.run([sys.executable, str(SCRIPT), "--seeds", "0:1000000000"], capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 2
+    assert out.stderr.strip().splitlines() == ["bench_moving.py: --seeds names 1000000000 seeds (at most 100000)"]
