@@ -89,9 +89,10 @@ BoolArray = NDArray[np.bool_]
 #: Keys of one look-ahead tier (``cornered_penalty`` is below it).
 TIER_SPAN = 16
 
-#: In the joint choice of robots in danger, a claimed cell costs this much, between a tier
-#: (1e8) and the cornered penalty (1e6), as ``CLAIM_WEIGHT`` in pibt.
-JOINT_CLAIM = 1e7
+#: The joint choice of robots in danger weighs a copy by its ranking keys in ranking order,
+#: with pibt's weights: a look-ahead tier, then a claimed cell, then a step within the tier
+#: (the cornered penalty), then the walker risk and the rank.
+JOINT_TIER, JOINT_CLAIM, JOINT_STEP = 1e8, 1e7, 1e6
 
 
 @register_controller("cat-swarm")
@@ -416,8 +417,8 @@ class CatSwarmController(Controller):
         if self.joint_escape and len(danger) >= 2:
             # robots in danger beside one another choose their moves together (pibt/joint_escape.py),
             # by a cost that orders each robot's moves as its ranking does (the same weights as pibt's)
-            cost = np.where(valid, (tier // TIER_SPAN) * 1e8 + claims * JOINT_CLAIM + (tier % TIER_SPAN) * 1e6
-                            + evade + rank, np.nan)
+            cost = np.where(valid, (tier // TIER_SPAN) * JOINT_TIER + claims * JOINT_CLAIM
+                            + (tier % TIER_SPAN) * JOINT_STEP + evade + rank, np.nan)
             rank = dense_ranks([prefer_joint_escapes(cost, cells, valid, danger, self.graph_.table,
                                                      (self.height_, self.width_), JOINT_CLAIM)], valid)
         order = decision_order(self.priority_, in_danger | threatened, valid.sum(axis=1))
