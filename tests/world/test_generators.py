@@ -69,3 +69,24 @@ def test_a_random_cell_in_a_small_pocket_falls_back_to_the_largest_area() -> Non
     field = distance_field(world.static_map.blocked, tuple(int(v) for v in starts[0]))
     assert np.isfinite(field[starts[:, 1], starts[:, 0]]).all() and np.isfinite(field[goals[:, 1], goals[:, 0]]).all()
     assert world.n_robots == 100 and len(world.moving_obstacles) == 20
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_crowded_map_still_gets_every_obstacle_clear_of_the_starts(seed: int) -> None:
+    # 100 robots on 32 x 32: most of the cells drawn for obstacles lie within 2 cells of a start
+    # (before, the world silently had about half the obstacles asked for)
+    world = random_grid_with_movers(seed, n_robots=100, n_moving=40, size=32)
+    starts = np.floor(world.starts).astype(int)
+    goals = np.floor(world.goals).astype(int)
+    obstacles = np.floor([ob.start for ob in world.moving_obstacles]).astype(int)
+    assert len(obstacles) == 40 and len({tuple(c) for c in obstacles.tolist()}) == 40
+    assert np.abs(obstacles[:, None, :] - starts[None]).max(axis=2).min() >= 3
+    assert not (obstacles[:, None, :] == goals[None]).all(axis=2).any()
+    assert not world.static_map.blocked[obstacles[:, 1], obstacles[:, 0]].any()
+    field = distance_field(world.static_map.blocked, tuple(int(v) for v in starts[0]))
+    assert np.isfinite(field[obstacles[:, 1], obstacles[:, 0]]).all()
+
+
+def test_obstacles_that_cannot_start_clear_of_the_robots_raise_one_clear_error() -> None:
+    with pytest.raises(ScenarioError, match="n_moving 60 obstacles do not fit"):
+        random_grid_with_movers(1, n_robots=300, n_moving=60, size=32)

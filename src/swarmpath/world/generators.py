@@ -8,7 +8,7 @@ import dataclasses
 from pathlib import Path
 
 import numpy as np
-from scipy.ndimage import label
+from scipy.ndimage import binary_dilation, label
 
 from swarmpath.errors import ScenarioError
 from swarmpath.world import (
@@ -194,14 +194,22 @@ def random_grid_with_movers(seed: int, n_robots: int = 100, n_moving: int = 20, 
     offset = np.random.default_rng([seed, 1]).uniform(-goal_offset, goal_offset, (n_robots, 2))
     robots = tuple(Robot(f"r{i}", tuple(starts[i] + 0.5), tuple(goals[i] + 0.5 + offset[i]), radius, float(np.sqrt(2)))
                    for i in range(n_robots))
+    # obstacles on the drawn cells at least 3 cells from every start; when too few of those are,
+    # on the area's other such cells in a random order (worlds with enough keep their obstacles)
+    places = [c for c in rest if np.min(np.max(np.abs(starts - c), axis=1)) >= 3][:n_moving]
+    if len(places) < n_moving:
+        near = np.zeros((size, size), bool)
+        near[starts[:, 1], starts[:, 0]] = True
+        near = binary_dilation(near, np.ones((5, 5), bool))               # within 2 cells of a start
+        near[pick[:, 1], pick[:, 0]] = True                               # and the cells drawn already
+        spare = connected[~near[connected[:, 1], connected[:, 0]]]
+        places += list(spare[rng.permutation(len(spare))[:n_moving - len(places)]])
+    if len(places) < n_moving:
+        raise ScenarioError(f"random_grid_with_movers: n_moving {n_moving} obstacles do not fit at least 3 cells "
+                            f"from every robot's start on seed {seed} (room for {len(places)})")
     moving = []
     headings = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)]
-    for c in rest:
-        if len(moving) == n_moving:
-            break
-        if np.min(np.max(np.abs(starts - c), axis=1)) < 3:
-            continue
-        k = len(moving)
+    for k, c in enumerate(places):
         motion = (RandomWalk() if k % 2 else Bounce8()) if motions is None else motions[k % len(motions)]
         moving.append(MovingObstacle(f"m{k}", Rect((-0.5, -0.5), (0.5, 0.5)), tuple(c + 0.5), headings[k % 4], motion))
     return World(RectBounds(size, size), static_map=StaticMap(blocked, 1.0), moving_obstacles=tuple(moving),
