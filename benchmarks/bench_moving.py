@@ -164,8 +164,12 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     args = ap.parse_args()
     seeds = seeds_of(args.seeds)
-    if not seeds or min(seeds) < 0 or args.workers < 1:
-        fail("--seeds must name at least one seed, none below 0, and --workers be >= 1")
+    if not seeds:
+        fail(f"--seeds {args.seeds!r} names no seed (in 'a:b', b must be above a)")
+    if min(seeds) < 0:
+        fail(f"--seeds must be whole numbers >= 0, got {min(seeds)}")
+    if args.workers < 1:
+        fail(f"--workers must be >= 1, got {args.workers}")
     for method in args.controllers:
         planner, controller = pair_of(method)
         if planner not in PLANNERS or controller not in CONTROLLERS:

@@ -30,3 +30,12 @@ def test_a_seed_range_too_long_gives_one_clear_line_before_any_work() -> None:
                          timeout=60)
     assert out.returncode == 2
     assert out.stderr.strip().splitlines() == ["bench_moving.py: --seeds names 1000000000 seeds (at most 100000)"]
+
+
+def test_an_empty_seed_range_and_no_workers_each_get_their_own_line() -> None:
+    for args, line in ((["--seeds", "5:3"], "--seeds '5:3' names no seed (in 'a:b', b must be above a)"),
+                       (["--seeds", "0,-4"], "--seeds must be whole numbers >= 0, got -4"),
+                       (["--workers", "0"], "--workers must be >= 1, got 0")):
+        out = subprocess.run([sys.executable, str(SCRIPT), *args], capture_output=True, text=True, timeout=60)
+        assert out.returncode == 2
+        assert out.stderr.strip().splitlines() == [f"bench_moving.py: {line}"]
