@@ -34,6 +34,7 @@ import math
 import sys
 import time
 from multiprocessing import Pool
+from pathlib import Path
 from typing import NoReturn
 
 import numpy as np
@@ -137,8 +138,8 @@ def report(method: str, rows: list[dict]) -> None:
 
 
 def fail(message: str) -> NoReturn:
-    """Bad input: one line on standard error, exit code 2."""
-    print(f"bench_moving.py: {message}", file=sys.stderr)
+    """Bad input: one line on standard error naming the script, exit code 2."""
+    print(f"{Path(sys.argv[0]).name}: {message}", file=sys.stderr)
     raise SystemExit(2)
 
 
