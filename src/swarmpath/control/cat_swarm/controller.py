@@ -269,7 +269,7 @@ class CatSwarmController(Controller):
             self.pad_ = self.window_ + 2 + DEAD_END_EXTRA
             self.dead_end_ = trap_cells(K.move_table(blocked))
             self.padded_ = np.pad(blocked, self.pad_, constant_values=True)
-            self.lingering_ = Lingering.start(blocked.shape)
+            self.lingering_ = Lingering.start(blocked, 8)
         self.moves_ = K.move_table(blocked)
         self.turn_game_ = TurnGame(self.forecast_, self.moves_) \
             if self.forecast_ is not None and self.turn_game else None
@@ -373,8 +373,7 @@ class CatSwarmController(Controller):
             # a robot an obstacle has held back for a while goes round it (detour.py)
             slow = np.flatnonzero((self.monitor_.since >= self.detour_after) & ~in_goal_cell & self.goal_ok_)
             if len(slow):
-                fitness[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], self.moves_,
-                                               fitness[slow], lambda r, c: self.tables_.distances(self.handles_[slow[r]], c))
+                fitness[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], fitness[slow])
         targets, in_goal, static_ok, valid = self.cells_.candidates(pos, goals, cells, copies, centre_first=True,
                                                                         hold=holding)
         # step 6.3: delete copies near moving obstacles (now, next step, and the look-ahead)

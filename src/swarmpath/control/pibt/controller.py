@@ -266,7 +266,7 @@ class PIBTController(Controller):
             self.pad_ = self.lookahead + 2 + DEAD_END_EXTRA
             self.dead_end_ = trap_cells(self.moves_)
             self.padded_ = np.pad(grid.blocked, self.pad_, constant_values=True)
-            self.lingering_ = Lingering.start(grid.blocked.shape)
+            self.lingering_ = Lingering.start(grid.blocked, self.connectivity)
         self.turn_game_ = TurnGame(self.forecast_, self.moves_) \
             if self.forecast_ is not None and self.turn_game else None
         self.evasion_ = EvasionRisk(world, grid, self.moves_, self.forecast_, radius, self.evasion_horizon) \
@@ -363,18 +363,18 @@ class PIBTController(Controller):
         threatened = np.zeros(n, bool)
         ranks = np.zeros((n, 9), np.int64)
         hz = None
+        if self.forecast_ is not None and self.detour_after:
+            # a robot an obstacle has held back for a while goes round it (detour.py), however
+            # far it has gone since: near the obstacle only, it turned back once out of reach
+            slow = np.flatnonzero((self.since_ >= self.detour_after) & ~in_goal_cell & self.goal_ok_)
+            if len(slow):
+                dist[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], dist[slow])
         if self.forecast_ is not None:
             hz = hazard_windows(self.forecast_, obs.obstacle_positions, obs.obstacle_previous, pos, cells,
                                 self.padded_, self.pad_, max(1 + self.lookahead, self.leave_early), 1 + self.lookahead,
                                 connectivity=self.connectivity)
         if hz is not None:
             rows = hz.rows
-            if self.detour_after:
-                # a robot an obstacle has held back for a while goes round it (detour.py)
-                slow = rows[(self.since_[rows] >= self.detour_after) & ~in_goal_cell[rows] & self.goal_ok_[rows]]
-                if len(slow):
-                    dist[slow] = detour_ranking(self.lingering_, cells[slow], self.goal_cells_[slow], self.moves_,
-                                                dist[slow], lambda r, c: self.tables_.distances(self.handles_[slow[r]], c))
             dest = cells[rows, None, :] + GRID_MOVES[None]
             allowed[rows] &= ~hz.at(hz.covered[0], dest)
             urgent[rows] = hz.at(hz.covered[0], cells[rows])
