@@ -35,7 +35,7 @@ import sys
 import time
 from multiprocessing import Pool
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, Callable, NoReturn
 
 import numpy as np
 
@@ -156,6 +156,40 @@ def seeds_of(text: str) -> list[int]:
         fail(f"--seeds must be 'a:b' or a comma list of whole numbers, got {text!r}")
 
 
+def checked_seeds(text: str) -> list[int]:
+    """The seeds of ``--seeds`` (:func:`seeds_of`): at least one, none below 0, else one line
+    and exit code 2."""
+    seeds = seeds_of(text)
+    if not seeds:
+        fail(f"--seeds {text!r} names no seed (in 'a:b', b must be above a)")
+    if min(seeds) < 0:
+        fail(f"--seeds must be whole numbers >= 0, got {min(seeds)}")
+    return seeds
+
+
+def run_all(one: Callable[[Any], dict], jobs: list, workers: int) -> list[dict]:
+    """``one`` of every job on ``workers`` processes, in the order they finish; a progress bar
+    in a terminal, a plain line every 30 s (and at the end) in logs and pipes."""
+    results: list[dict] = []
+    t0 = last = time.perf_counter()
+    with Pool(workers) as pool:
+        if sys.stderr.isatty():
+            from rich.progress import Progress
+
+            with Progress(transient=True) as bar:
+                task = bar.add_task("runs", total=len(jobs))
+                for r in pool.imap_unordered(one, jobs):
+                    results.append(r)
+                    bar.advance(task)
+        else:
+            for r in pool.imap_unordered(one, jobs):
+                results.append(r)
+                if time.perf_counter() - last >= 30 or len(results) == len(jobs):
+                    last = time.perf_counter()
+                    print(f"{len(results)}/{len(jobs)} runs, {last - t0:.0f} s", file=sys.stderr, flush=True)
+    return results
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seeds", default="3000:3200", help="'a:b' (a to b - 1) or a comma list (default 3000:3200)")
@@ -164,11 +198,7 @@ def main() -> None:
     ap.add_argument("--peers", action="store_true", help="also the static MAPF plans followed blindly (pymapf)")
     ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     args = ap.parse_args()
-    seeds = seeds_of(args.seeds)
-    if not seeds:
-        fail(f"--seeds {args.seeds!r} names no seed (in 'a:b', b must be above a)")
-    if min(seeds) < 0:
-        fail(f"--seeds must be whole numbers >= 0, got {min(seeds)}")
+    seeds = checked_seeds(args.seeds)
     if args.workers < 1:
         fail(f"--workers must be >= 1, got {args.workers}")
     for method in args.controllers:
@@ -184,25 +214,7 @@ def main() -> None:
     methods = list(args.controllers) + (list(PEERS) if args.peers else [])
     jobs = [(m, s) for m in methods for s in seeds]
     print(f"{len(seeds)} seeds x {len(methods)} methods on the 64 x 64 world with 100 robots and 20 moving obstacles")
-    results: list[dict] = []
-    tty = sys.stderr.isatty()
-    t0 = time.perf_counter()
-    last = t0
-    with Pool(args.workers) as pool:
-        if tty:
-            from rich.progress import Progress
-
-            with Progress(transient=True) as bar:
-                task = bar.add_task("runs", total=len(jobs))
-                for r in pool.imap_unordered(one, jobs):
-                    results.append(r)
-                    bar.advance(task)
-        else:
-            for r in pool.imap_unordered(one, jobs):
-                results.append(r)
-                if time.perf_counter() - last >= 30 or len(results) == len(jobs):
-                    last = time.perf_counter()
-                    print(f"{len(results)}/{len(jobs)} runs, {last - t0:.0f} s", file=sys.stderr, flush=True)
+    results = run_all(one, jobs, args.workers)
     for m in methods:
         report(m, sorted((r for r in results if r["method"] == m), key=lambda r: r["seed"]))
 

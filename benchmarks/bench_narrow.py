@@ -34,14 +34,13 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from multiprocessing import Pool
 from pathlib import Path
 
 import numpy as np
 from scipy.ndimage import binary_dilation, label
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_moving import fail, seeds_of  # noqa: E402
+from bench_moving import checked_seeds, fail, run_all  # noqa: E402
 
 from swarmpath.registry import CONTROLLERS  # noqa: E402
 from swarmpath.runner import simulate  # noqa: E402
@@ -222,11 +221,7 @@ def main() -> None:
     ap.add_argument("--controllers", nargs="+", default=["pibt", "cat-swarm"], help="grid controllers")
     ap.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     args = ap.parse_args()
-    seeds = seeds_of(args.seeds)
-    if not seeds:
-        fail(f"--seeds {args.seeds!r} names no seed (in 'a:b', b must be above a)")
-    if min(seeds) < 0:
-        fail(f"--seeds must be whole numbers >= 0, got {min(seeds)}")
+    seeds = checked_seeds(args.seeds)
     if args.workers < 1:
         fail(f"--workers must be >= 1, got {args.workers}")
     for family in args.families:
@@ -238,22 +233,8 @@ def main() -> None:
     jobs = [(f, c, s) for f in args.families for c in args.controllers for s in seeds]
     print(f"{len(seeds)} seeds x {len(args.families)} families x {len(args.controllers)} controllers, "
           f"{MAX_STEPS} steps at most a run")
-    results: list[dict] = []
     t0 = time.perf_counter()
-    with Pool(args.workers) as pool:
-        if sys.stderr.isatty():
-            from rich.progress import Progress
-
-            with Progress(transient=True) as bar:
-                task = bar.add_task("runs", total=len(jobs))
-                for r in pool.imap_unordered(one, jobs):
-                    results.append(r)
-                    bar.advance(task)
-        else:
-            for k, r in enumerate(pool.imap_unordered(one, jobs), 1):
-                results.append(r)
-                if k % 10 == 0 or k == len(jobs):
-                    print(f"  {k} of {len(jobs)} runs, {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
+    results = run_all(one, jobs, args.workers)
     for family in args.families:
         for controller in args.controllers:
             rows = sorted((r for r in results if r["family"] == family and r["controller"] == controller),

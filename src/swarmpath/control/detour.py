@@ -104,20 +104,24 @@ class Lingering:
             self._mask, self._handles = mask, {}
             self._tables = LazyDistanceTables(mask, connectivity=self.connectivity)
         tables = self._tables
-        out = np.full(cells.shape[:2], np.inf)
         asked: dict[tuple[int, int], int] = {}
+        handles = np.full(len(goal_cells), -1, np.int64)
         h, w = mask.shape
-        for r, (gx, gy) in enumerate(goal_cells.tolist()):
-            if not (0 <= gx < w and 0 <= gy < h) or mask[gy, gx]:
-                continue
-            key = (gx, gy)
+        for r, key in enumerate(map(tuple, goal_cells.tolist())):
+            if not (0 <= key[0] < w and 0 <= key[1] < h) or mask[key[1], key[0]]:
+                continue                            # no detour to a goal an obstacle lingers on
             if key not in asked:
                 handle = self._handles.pop(key, None)
                 asked[key] = tables.acquire(key) if handle is None else handle
-            out[r] = tables.distances(np.full(cells.shape[1], asked[key]), cells[r])
+            handles[r] = asked[key]
         for handle in self._handles.values():       # goals no robot asked for this step
             tables.release(handle)
         self._handles = asked
+        out = np.full(cells.shape[:2], np.inf)
+        rows = np.flatnonzero(handles >= 0)
+        if len(rows):
+            c = cells.shape[1]
+            out[rows] = tables.distances(np.repeat(handles[rows], c), cells[rows].reshape(-1, 2)).reshape(-1, c)
         return out
 
 
