@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmpath.control.obstacle_reach import WallAwareReach, centre_cells, reach_rule
 from swarmpath.world.motions import FORECASTS, Motion, StepContext
 from swarmpath.world.move_rules import GRID_MOVES, footprint_hits
 from swarmpath.world.moving import MovingObstacle
@@ -242,6 +243,15 @@ class ObstacleForecast:
         keys = [tuple(np.r_[lo, hi].round(12)) for lo, hi in boxes]
         first: dict[tuple, int] = {}
         self.shape_of = np.array([first.setdefault(k, j) for j, k in enumerate(keys)], np.int64)
+        # boxes of uncertain heading cut to the cells the obstacle can reach round the walls
+        # (obstacle_reach.py), for models that only move to where their footprint fits; a
+        # footprint wider than a point in every direction never has its centre in a blocked cell
+        solid = np.all((-self.lo > 1e-6) & (self.hi > 1e-6), axis=1)
+        self.stays_clear = np.array([bool(getattr(o.motion, "stays_clear", False)) for o in obs], bool) & solid
+        free = centre_cells(world, self.resolution, self.shape) if self.stays_clear.any() else None
+        self.reach_cut = WallAwareReach(free) if free is not None else None
+        self.keep_extent = np.max(np.abs(np.concatenate([self.keep_lo, self.keep_hi], axis=1)), axis=1, initial=0.0)
+        self.least_extent = np.min(np.concatenate([-self.lo, self.hi], axis=1), axis=1, initial=np.inf)
 
     def cover_ranges(self, lo: FloatArray, hi: FloatArray, margin: int = 0) -> IntArray:
         """The cells (ranges (k, 4)) that open boxes (lo, hi) (k, 2) of footprints grown by the
@@ -420,7 +430,41 @@ class ObstacleForecast:
         q = cand[j, s]
         ranges, sweep = self.sweep_ranges(p[j], q, self.keep_lo[j] - extra[j, None], self.keep_hi[j] + extra[j, None],
                                           margin)
-        return ranges, j[sweep]
+        owners = j[sweep]
+        if self.reach_cut is not None and np.any(extra > 0):
+            # a model that may turn to any angle: its grown box, cut to one step round the walls
+            d = p - np.asarray(previous, float).reshape(self.m, 2)
+            reach = np.where(extra > 0, np.maximum(extra, np.hypot(d[:, 0], d[:, 1])), 0.0)
+            ranges, owners = self._cut_to_reach(ranges, owners, p, np.ones(self.m, np.int64), reach, margin)
+        return ranges, owners
+
+    def _cut_to_reach(self, ranges: IntArray, owners: IntArray, starts: FloatArray, steps: IntArray,
+                      reach: FloatArray, margin: int) -> tuple[IntArray, IntArray]:
+        """Ranges (q, 4) of obstacles ``owners`` (q,) whose position is uncertain (``reach`` (m,)
+        > 0: world units per step per axis at most, for ``steps`` (m,) steps from ``starts``
+        (m, 2)) cut to the cells they can reach round the walls
+        (:class:`~swarmpath.control.obstacle_reach.WallAwareReach`); the others unchanged."""
+        cut = self.stays_clear[owners] & (reach[owners] > 0) & (steps[owners] > 0)
+        if cut.any() and self._sat_shape == self.shape and abs(self._sat_res - self.resolution) < 1e-12:
+            # a box without a blocked cell holds no wall to go round: its cut is the whole box
+            h, w = self.shape
+            x0, x1 = np.clip(ranges[:, 0], 0, w), np.clip(ranges[:, 2], 0, w)
+            y0, y1 = np.clip(ranges[:, 1], 0, h), np.clip(ranges[:, 3], 0, h)
+            sat = self._sat
+            cut &= sat[y1, x1] - sat[y0, x1] - sat[y1, x0] + sat[y0, x0] > 0
+        if not cut.any():
+            return ranges, owners
+        res = self.resolution
+        j = owners[cut]
+        rules = [reach_rule(r / res, r / res * (np.sqrt(2) if walker else 1.0), rho / res, e / res, walker, margin)
+                 for r, rho, e, walker in zip(reach[j].tolist(), self.least_extent[j].tolist(),
+                                              self.keep_extent[j].tolist(), (self.code[j] == RANDOM_WALK).tolist())]
+        hops = np.array([r[0] for r in rules], np.int64)
+        jumps = np.array([r[1] for r in rules], bool)
+        dils = np.array([r[2] for r in rules], np.int64)
+        cells = np.floor(starts[j] / res).astype(np.int64)
+        kept, kept_owners = self.reach_cut.cut(ranges[cut], j, cells, hops, steps[j], dils, jumps)
+        return np.concatenate([ranges[~cut], kept]), np.concatenate([owners[~cut], kept_owners])
 
     def step_ranges(self, positions: FloatArray, previous: FloatArray, steps: int, *, margin: int = 0
                     ) -> list[IntArray]:
@@ -469,6 +513,10 @@ class ObstacleForecast:
             boxes, sweep = self.sweep_ranges(a[boxed], b[boxed], self.keep_lo[boxed] - grow[boxed],
                                              self.keep_hi[boxed] + grow[boxed], margin)
             owners = boxed[sweep]
+            if self.reach_cut is not None:
+                # the boxes grown for an uncertain heading, cut to the cells reachable round walls
+                unsure = np.where(grow[:, 0] > 0, k - free, 0)
+                boxes, owners = self._cut_to_reach(boxes, owners, a, unsure, np.where(unsure > 0, reach, 0.0), margin)
             if exact.any():
                 j, a, b = runs[k - 1]
                 more, sweep = self.sweep_ranges(a, b, self.keep_lo[j], self.keep_hi[j], margin)
@@ -555,7 +603,9 @@ class ObstacleForecast:
         reflection that fits) and goes straight on again: its runs are listed exactly
         (:meth:`_bounce_runs`). One that stands (after a full stop) may set off any way, so
         from step f on it lies within (k - f) steps of travel of where it is; random walkers
-        lie within k steps of travel of where they are now.
+        lie within k steps of travel of where they are now. Those boxes are cut to the cells
+        such an obstacle can reach round the walls when its model keeps to where it fits
+        (:mod:`swarmpath.control.obstacle_reach`).
 
         Whole-grid arrays: a controller that needs the cells around its robots only asks
         :meth:`windows` (the cost then follows the robots, not the map)."""

@@ -85,6 +85,11 @@ class Motion(abc.ABC):
     #: exactly (``waypoints``); grid controllers then forecast it step by step.
     scripted: ClassVar[bool] = False
     forecast: ClassVar[str] = "any-heading"
+    #: The model only ever moves the footprint to a position where it fits (``obstacle_fits``
+    #: at the end of each step), so it goes round walls thicker than its step rather than
+    #: through them: grid controllers then bound where it can be by the cells it can reach
+    #: (:mod:`swarmpath.control.obstacle_reach`). False (the safe default) for new models.
+    stays_clear: ClassVar[bool] = False
     #: Scenario-file parameters of this model: name -> (annotation, pydantic FieldInfo).
     parameters: ClassVar[Mapping[str, tuple[Any, Any]]] = {}
 

@@ -17,6 +17,7 @@ class Bounce(Motion):
 
     kind = "bounce"
     forecast = "bounce"
+    stays_clear = True
     #: On a hit: a random free compass direction (True) instead of a reflection.
     new_direction_on_hit: ClassVar[bool] = False
 

@@ -15,4 +15,5 @@ class Bounce8(Bounce):
 
     kind = "bounce8"
     forecast = "bounce8"
+    stays_clear = True
     new_direction_on_hit = True

@@ -21,6 +21,7 @@ class RandomWalk(Motion):
 
     kind = "random-walk"
     forecast = "random-walk"
+    stays_clear = True
 
     def advance(self, ob: Footprinted, position: FloatArray, velocity: FloatArray, counter: int,
                 ctx: StepContext) -> tuple[FloatArray, FloatArray, int]:

@@ -22,6 +22,7 @@ class TurnEvery(Motion):
 
     period: int = 10
     kind = "turn-every"
+    stays_clear = True
     parameters = {"period": (Optional[Count],
                              Field(None, description="turn-every: steps between turns (default 10)"))}
 
