@@ -258,7 +258,8 @@ def test_forecasts_hold_every_simulated_future():
     """Obstacles of every forecast class, of several shapes and speeds, run by the simulator's
     own motion models in a cluttered world: each sweep an obstacle makes k steps later lies in
     the D_k forecast from its position and velocity now."""
-    from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
+    from swarmpath.testing.motions import obstacle_track
+    from swarmpath.world.moving import initial_obstacle_state
 
     world, _, _, rng = world_with_obstacles(3, size=20)
     obs = [o for o in world.moving_obstacles if o.motion.forecast != "teleport"]   # redraw jumps anywhere
@@ -267,12 +268,9 @@ def test_forecasts_hold_every_simulated_future():
     world = World(world.bounds, static_map=world.static_map, moving_obstacles=tuple(obs), robots=world.robots,
                   name="all")
     fc = H.ObstacleForecast(world, world.grid(), robot_radius=0.2)
-    state = initial_obstacle_state(world)
-    path = [state.positions - state.velocities * world.dt, state.positions]
-    for _ in range(120):
-        state = advance_obstacles(world, state, rng)
-        path.append(state.positions)
-    path = np.array(path)
+    track = obstacle_track(world, 120, rng)
+    start = initial_obstacle_state(world)
+    path = np.concatenate([(start.positions - start.velocities * world.dt)[None], track])
     depth = 4
     tighter = 0
     for t in range(1, len(path) - depth):

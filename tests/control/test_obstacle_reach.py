@@ -14,9 +14,9 @@ from swarmpath.control.obstacle_reach import WallAwareReach, dilate, reach_rule,
 from swarmpath.sim import Simulator
 from swarmpath.registry import CONTROLLERS
 from swarmpath.testing import validate_trajectory
+from swarmpath.testing.motions import obstacle_track
 from swarmpath.world import Circle, Rect, RectBounds, Robot, StaticMap, World
-from swarmpath.world.moving import Bounce8, MovingObstacle, RandomWalk, TurnEvery, advance_obstacles, \
-    initial_obstacle_state
+from swarmpath.world.moving import Bounce8, MovingObstacle, RandomWalk, TurnEvery, initial_obstacle_state
 
 S2 = float(np.sqrt(2))
 
@@ -88,12 +88,9 @@ def test_cut_forecasts_hold_every_simulated_future_in_thin_walled_mazes(seed, ra
     sets lie inside the boxes; on most steps the cut removes cells."""
     world = maze_world(seed)
     rng = np.random.default_rng(100 + seed)
-    state = initial_obstacle_state(world)
-    path = [state.positions - state.velocities * world.dt, state.positions]
-    for _ in range(150):
-        state = advance_obstacles(world, state, rng)
-        path.append(state.positions)
-    path = np.array(path)
+    track = obstacle_track(world, 150, rng)
+    start = initial_obstacle_state(world)
+    path = np.concatenate([(start.positions - start.velocities * world.dt)[None], track])
     fc = H.ObstacleForecast(world, world.grid(), robot_radius=radius)
     assert fc.reach_cut is not None
     boxes = H.ObstacleForecast(world, world.grid(), robot_radius=radius)

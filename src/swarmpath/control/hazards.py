@@ -456,12 +456,14 @@ class ObstacleForecast:
             return ranges, owners
         res = self.resolution
         j = owners[cut]
-        rules = [reach_rule(r / res, r / res * (np.sqrt(2) if walker else 1.0), rho / res, e / res, walker, margin)
-                 for r, rho, e, walker in zip(reach[j].tolist(), self.least_extent[j].tolist(),
-                                              self.keep_extent[j].tolist(), (self.code[j] == RANDOM_WALK).tolist())]
-        hops = np.array([r[0] for r in rules], np.int64)
-        jumps = np.array([r[1] for r in rules], bool)
-        dils = np.array([r[2] for r in rules], np.int64)
+        # one rule per obstacle (its boxes of every row and step share it)
+        ob, row = np.unique(j, return_inverse=True)
+        rules = np.array([reach_rule(r / res, r / res * (np.sqrt(2) if walker else 1.0), rho / res, e / res, walker,
+                                     margin)
+                          for r, rho, e, walker in zip(reach[ob].tolist(), self.least_extent[ob].tolist(),
+                                                       self.keep_extent[ob].tolist(),
+                                                       (self.code[ob] == RANDOM_WALK).tolist())], np.int64)[row]
+        hops, jumps, dils = rules[:, 0], rules[:, 1].astype(bool), rules[:, 2]
         cells = np.floor(starts[j] / res).astype(np.int64)
         kept, kept_owners = self.reach_cut.cut(ranges[cut], j, cells, hops, steps[j], dils, jumps)
         return np.concatenate([ranges[~cut], kept]), np.concatenate([owners[~cut], kept_owners])

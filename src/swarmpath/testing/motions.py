@@ -26,6 +26,19 @@ def motion_test_world(motion: Motion, speed: float = 1.0) -> World:
                  name="motion-test")
 
 
+def obstacle_track(world: World, steps: int, rng: np.random.Generator,
+                   keep_clear: np.ndarray | None = None) -> np.ndarray:
+    """The moving obstacles' positions over ``steps`` steps of their models, as the simulator
+    moves them (``keep_clear``: points a redraw avoids): array (steps + 1, m, 2), the start
+    first."""
+    state = initial_obstacle_state(world)
+    track = [state.positions]
+    for _ in range(steps):
+        state = advance_obstacles(world, state, rng, keep_clear=keep_clear)
+        track.append(state.positions)
+    return np.asarray(track)
+
+
 def check_motion(motion: Motion, steps: int = 300, seeds: tuple[int, ...] = (0, 1)) -> list[str]:
     """Problems of ``motion`` (an instance): its footprint always fits the free space, the
     same seed gives the same track, no step moves farther than ``max_step`` (unless the model
@@ -41,15 +54,7 @@ def check_motion(motion: Motion, steps: int = 300, seeds: tuple[int, ...] = (0, 
         return problems + [f"{name}: the test world refuses the model: {exc}"]
     keep = np.concatenate([world.starts, world.goals])
     for seed in seeds:
-        tracks = []
-        for _ in range(2):
-            rng = np.random.default_rng(seed)
-            state = initial_obstacle_state(world)
-            track = [state.positions]
-            for _ in range(steps):
-                state = advance_obstacles(world, state, rng, keep_clear=keep)
-                track.append(state.positions)
-            tracks.append(np.asarray(track))
+        tracks = [obstacle_track(world, steps, np.random.default_rng(seed), keep) for _ in range(2)]
         if not np.array_equal(tracks[0], tracks[1]):
             problems.append(f"{name}, seed {seed}: the same seed gave different tracks")
         track = tracks[0]
