@@ -92,6 +92,8 @@ def test_tiers_on_windows_are_the_whole_grid_cascade(seed, spare):
     kept, threatened_too, rank_too, ways_too = hz.tiers(allowed, dest, depth, spare=spare, fallback=fallback)
     # the whole-grid reference
     exits = K.moves_at(grid.blocked, np.stack([xs, ys], axis=-1).reshape(-1, 2)).reshape(len(r), 9, 9)
+    # the moves of the step after, made while the obstacles stand where it left them
+    exits &= H.moves_past(moves, H.standing_cells(full, 1))[ys, xs]
     around = np.stack([xs, ys], axis=-1)[:, :, None, :] + K.OFFSETS
     ax, ay = np.clip(around[..., 0], 0, w - 1), np.clip(around[..., 1], 0, h - 1)
     expected = allowed.copy()
@@ -459,14 +461,17 @@ def test_waypoint_obstacles_are_forecast_along_their_route():
         assert not elsewhere.script
 
 
-def _simulated_obstacles(seed: int, steps: int):
+def _simulated_obstacles(seed: int, steps: int, cell_sized: bool = False):
     """A cluttered world's obstacles of every forecast class but teleport (a redraw jumps
     anywhere off the robots' cells), run ``steps`` steps by the simulator's own models:
-    (world, positions (steps + 2, m, 2), the first being one step before the start)."""
+    (world, positions (steps + 2, m, 2), the first being one step before the start). With
+    ``cell_sized`` every obstacle is a 1 x 1 box."""
     from swarmpath.world.moving import advance_obstacles, initial_obstacle_state
 
     world, _, _, rng = world_with_obstacles(seed, size=20)
     obs = tuple(o for o in world.moving_obstacles if o.motion.forecast != "teleport")
+    if cell_sized:
+        obs = tuple(dataclasses.replace(o, shape=Rect((-0.5, -0.5), (0.5, 0.5))) for o in obs)
     world = World(world.bounds, static_map=world.static_map, moving_obstacles=obs, robots=world.robots,
                   name=f"disc{seed}")
     state = initial_obstacle_state(world)
@@ -475,6 +480,48 @@ def _simulated_obstacles(seed: int, steps: int):
         state = advance_obstacles(world, state, rng)
         path.append(state.positions)
     return world, np.array(path)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_every_cell_of_the_two_step_tier_keeps_a_way_on_the_checker_clears(seed):
+    """The claim of :func:`~swarmpath.control.hazards.safe_tier` against the checker: a robot
+    that ends this step on a cell of the two-step tier (S_1) is not hit in the next step
+    wherever the obstacles go, and then has a move, made among the obstacles where that step
+    left them, into S_2 that the checker clears. Before the diagonals past an obstacle's next
+    cell were left out, a diagonal that crossed it counted as that way on. The obstacles are
+    1 x 1 boxes, on and off the grid (bounce8 steps diagonals of length 1), the robots points:
+    the claim holds for footprints at least a cell wide (:func:`~swarmpath.control.hazards.
+    moves_past`)."""
+    from swarmpath.sim.collisions import robot_moving_contacts
+
+    world, path = _simulated_obstacles(seed, 80, cell_sized=True)
+    grid = world.grid()
+    h, w = grid.blocked.shape
+    moves = static_moves(grid.blocked)
+    fc = H.ObstacleForecast(world, grid)
+    checked = 0
+    for t in range(1, len(path) - 1):
+        fc.at_step(t - 1, path[t])
+        covered = fc.coverage(path[t], path[t - 1], 2)
+        first, then = H.safe_tier(covered, moves, 2)
+        cells = np.argwhere(first & ~grid.blocked)[:, ::-1]
+        if not len(cells):
+            continue
+        centres = cells + 0.5
+        radii = np.zeros(len(cells))
+        assert robot_moving_contacts(world, centres, centres, path[t], path[t + 1], radii) == [], t
+        way_on = np.zeros(len(cells), bool)
+        for a, move in enumerate(GRID_MOVES):
+            ends = cells + move
+            inside = np.all((ends >= 0) & (ends < [w, h]), axis=1)
+            ok = inside & moves[cells[:, 1], cells[:, 0], a]
+            ok[ok] &= then[ends[ok, 1], ends[ok, 0]]
+            hit = {i for i, _, _ in robot_moving_contacts(world, centres[ok], centres[ok] + move, path[t + 1],
+                                                          path[t + 1], radii[ok])}
+            way_on[np.flatnonzero(ok)[[i for i in range(int(ok.sum())) if i not in hit]]] = True
+        assert way_on.all(), (t, cells[~way_on][:3].tolist())
+        checked += len(cells)
+    assert checked > 1000
 
 
 @pytest.mark.parametrize("radius", [0.0, 0.3, 0.5])

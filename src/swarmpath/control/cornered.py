@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from swarmpath.control.hazards import HazardWindows, ObstacleForecast
+from swarmpath.control.hazards import HazardWindows, ObstacleForecast, moves_past, standing_cells
 from swarmpath.world.move_rules import GRID_MOVES
 
 FloatArray = NDArray[np.float64]
@@ -89,7 +89,11 @@ def ways_clear(hz: HazardWindows, local_rows: IntArray, dest: IntArray) -> IntAr
     rows = np.asarray(local_rows, np.int64)
     size = hz.covered.shape[-1]
     c = np.asarray(dest, np.int64) - hz.origin[rows, None, :]
-    moves = hz.moves[rows[:, None], np.clip(c[..., 1], 0, size - 1), np.clip(c[..., 0], 0, size - 1)]
+    ways = hz.moves[rows]
+    if hz.corners and hz.covered.shape[0] >= 2:
+        # the moves of the step after are made while the obstacles stand where it left them
+        ways = moves_past(ways, standing_cells(hz.covered[:, rows], 1))
+    moves = ways[np.arange(len(rows))[:, None], np.clip(c[..., 1], 0, size - 1), np.clip(c[..., 0], 0, size - 1)]
     if hz.covered.shape[0] < 2:
         return moves.sum(axis=-1)
     around = c[..., None, :] + GRID_MOVES                                  # (r, 9, 9, 2)

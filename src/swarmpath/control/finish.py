@@ -183,7 +183,7 @@ def gathering_positions(world: World, obs: Observation, forecast, grid, moves: N
     covered = forecast.coverage(obs.obstacle_positions, obs.obstacle_previous, depth)
     tier = np.zeros((h, w), np.int64)
     for d in range(depth, 0, -1):
-        safe = safe_tier(covered, moves, d)[0] if d > 1 else ~covered[0]
+        safe = safe_tier(covered, moves, d, forecast.robot_radius == 0)[0] if d > 1 else ~covered[0]
         tier = np.where((tier == 0) & safe, d, tier)
     dest = cells[:, None, :] + GRID_MOVES[None]                                     # (n, 9, 2)
     dx, dy = np.clip(dest[..., 0], 0, w - 1), np.clip(dest[..., 1], 0, h - 1)

@@ -748,18 +748,60 @@ def escape_cells(unsafe: BoolArray, moves: BoolArray) -> BoolArray:
     return out
 
 
-def safe_tier(covered, moves: BoolArray, depth: int) -> tuple[BoolArray, BoolArray]:
+def standing_cells(covered, k: int) -> BoolArray:
+    """Cells an obstacle may stand on after k steps from now (k >= 1), shape (..., h, w), as
+    far as ``covered`` = [D_1, ..., D_K] tells: the step-k sweep ends where the step-(k+1)
+    sweep starts, so D_k and D_(k+1) (D_K alone for k = K). A bouncer on a straight run
+    stands on one cell of its two-cell sweeps, not on the cell it has just left."""
+    here = np.asarray(covered[k - 1], bool)
+    return here & np.asarray(covered[k], bool) if k < len(covered) else here
+
+
+def moves_past(moves: BoolArray, standing: BoolArray) -> BoolArray:
+    """``moves`` (..., h, w, 9) without the diagonals that pass a cell of ``standing``
+    (..., h, w): a diagonal crosses the shared corner of its two orthogonal neighbours, and an
+    obstacle standing on either touches it (the checker's phase 2: the robot moves while the
+    obstacles stand where their step ended). Corners beyond the array count as clear: a move
+    that needs one ends beyond the array too.
+
+    With cells counted by their centres this misses no crossing of a box footprint at least
+    a cell wide by a point robot: such a box touching a move's path holds the centre of its
+    start, its end or a corner cell (an interval of length 1 meeting [c + 1/2, c + 3/2] holds
+    one of its ends), and start and end are in no D set. A smaller obstacle off the grid can
+    slip between centres; the step being decided is checked exactly
+    (:meth:`ObstacleForecast.crossings`). For disc robots (cells covered by their centres
+    grown by the radius) it would also leave out diagonals the disc clears, so the
+    controllers use it for point robots only (:class:`HazardWindows`)."""
+    s = np.asarray(standing, bool)
+    h, w = s.shape[-2:]
+    pad = np.zeros(s.shape[:-2] + (h + 2, w + 2), bool)
+    pad[..., 1:-1, 1:-1] = s
+    out = np.array(moves, bool, copy=True)
+    for a, (dx, dy) in enumerate(GRID_MOVES.tolist()):
+        if dx and dy:
+            out[..., a] &= ~pad[..., 1:1 + h, 1 + dx:1 + dx + w] & ~pad[..., 1 + dy:1 + dy + h, 1:1 + w]
+    return out
+
+
+def safe_tier(covered, moves: BoolArray, depth: int, corners: bool = True) -> tuple[BoolArray, BoolArray]:
     """Cells where a robot may end this step and still keep clear of every moving obstacle
     for ``depth`` steps whatever the obstacles do, shape (..., h, w). ``covered`` = [D_1,
     ..., D_K] (K >= depth, each (..., h, w)) are the cells obstacles may cover in each of the
     next K steps. Backward induction: S_depth = not D_depth, S_k = not D_k and one allowed
-    move away from S_(k+1). Returns (S_1, S_2) (S_2: where the robot must be able to go next
-    step; all True for depth 1)."""
+    move away from S_(k+1), the move made while the obstacles stand where step k left them
+    (with ``corners``, for point robots: no diagonal past one, :func:`moves_past`). Returns
+    (S_1, S_2) (S_2: where the robot must be able to go next step; all True for depth 1).
+
+    Why the diagonals: a robot waiting beside a bouncer's line, a walker on its other side,
+    was ranked safe because a diagonal led on past the bouncer's next cell; the step after,
+    that diagonal crossed the bouncer and the robot was cornered (64 x 64 acceptance world,
+    pibt seed 3299)."""
     safe = ~np.asarray(covered[depth - 1], bool)
     after = np.ones_like(safe)
     for k in range(depth - 1, 0, -1):
         after = safe
-        safe = ~np.asarray(covered[k - 1], bool) & escape_cells(~safe, moves)
+        ways = moves_past(moves, standing_cells(covered, k)) if corners else moves
+        safe = ~np.asarray(covered[k - 1], bool) & escape_cells(~safe, ways)
     return safe, after
 
 
@@ -894,12 +936,20 @@ class HazardWindows:
 
     rows (r,) : those robots' indices; origin (r, 2) : cell (x, y) of each window's corner;
     covered (steps, r, s, s) : D_1 ... D_steps (:meth:`ObstacleForecast.coverage`) on the
-    windows; moves (r, s, s, 9) : the static grid moves from each window cell."""
+    windows; moves (r, s, s, 9) : the static grid moves from each window cell; corners : the
+    look-ahead leaves out diagonals past a cell an obstacle may stand on (:func:`moves_past`;
+    point robots).
+
+    Why only point robots: cells covered by their centres, grown by a disc robot's radius,
+    leave out diagonals that the disc would clear as well, and that cost a disc robot the
+    diagonal out of a bouncer's column on seed 1 of the 64 x 64 acceptance world with discs
+    (cat-swarm, caught; docs/algorithms/pibt.md)."""
 
     rows: IntArray
     origin: IntArray
     covered: BoolArray
     moves: BoolArray
+    corners: bool = True
 
     def local(self, cells: IntArray) -> IntArray:
         """Window coordinates of grid cells (r, ..., 2), one leading row per window."""
@@ -942,6 +992,9 @@ class HazardWindows:
         undecided = np.ones(r, bool)
         if exits is None:
             exits = self.at(self.moves, dest)
+        if self.corners and len(self.covered) >= 2:
+            # next step's moves are made while the obstacles stand where that step left them
+            exits = exits & self.at(moves_past(self.moves, standing_cells(self.covered, 1)), dest)
         around = np.asarray(dest)[..., None, :] + GRID_MOVES            # (r, 9, 9, 2)
         base = allowed.copy()
         depth = np.broadcast_to(np.asarray(depth, np.int64), (r,))
@@ -951,7 +1004,7 @@ class HazardWindows:
         ranked = np.zeros(base.shape, bool)
         way_count = np.zeros(base.shape, np.int64)
         for d in range(top, 1, -1):
-            _, then = safe_tier(self.covered, self.moves, d)
+            _, then = safe_tier(self.covered, self.moves, d, self.corners)
             ways = np.sum(exits & self.at(then, around), axis=-1)
             strict = base & ~self.at(self.covered[0], dest) & (ways > 0)
             fresh = strict & ~ranked & (depth >= d)[:, None]
@@ -1009,4 +1062,4 @@ def hazard_windows(forecast: ObstacleForecast, positions: FloatArray, previous: 
     ys = origin[:, 1, None] - 1 + pad + off[None]
     xs = origin[:, 0, None] - 1 + pad + off[None]
     patches = padded_blocked[ys[:, :, None], xs[:, None, :]]
-    return HazardWindows(rows, origin, covered, window_moves(patches, connectivity))
+    return HazardWindows(rows, origin, covered, window_moves(patches, connectivity), forecast.robot_radius == 0)
