@@ -24,9 +24,11 @@ MAX_CELLS = 1 << 20
 def journey_lower_bounds(world) -> FloatArray:
     """For each robot (n,), a length (world units) its journey round the static obstacles is at
     least: the landmark bound on the world's occupancy grid (8-connected, no corner cutting,
-    robots as points, so never above the true length for robots of any radius); 0 for robots
-    whose start or goal cell the grid blocks or cuts off from the landmarks, and for all robots
-    on a map without blocked cells or with more than :data:`MAX_CELLS` cells."""
+    robots as points, so never above a grid robot's shortest path, whatever its radius; a
+    robot moving freely between raster cells may find a way up to 8 % shorter than the grid's,
+    which a budget of four journeys absorbs); 0 for robots whose start or goal cell the grid
+    blocks or cuts off from the landmarks, and for all robots on a map without blocked cells or
+    with more than :data:`MAX_CELLS` cells."""
     from swarmpath.search.lazy_distance import landmark_fields
 
     n = world.n_robots
