@@ -49,6 +49,6 @@ def journey_lower_bounds(world) -> FloatArray:
     s, g = (np.clip(c, 0, [w - 1, h - 1]) for c in cells)
     a = fields[s[:, 1] * w + s[:, 0]]
     b = fields[g[:, 1] * w + g[:, 0]]
-    known = np.isfinite(a) & np.isfinite(b)
-    gap = np.where(known, np.abs(np.where(known, a, 0.0) - np.where(known, b, 0.0)), 0.0).max(axis=1)
+    known = np.isfinite(a) & np.isfinite(b)              # landmarks in the robot's region
+    gap = np.abs(np.where(known, a, 0.0) - np.where(known, b, 0.0)).max(axis=1)
     return np.where(inside, gap * grid.resolution, 0.0)
