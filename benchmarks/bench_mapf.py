@@ -18,7 +18,9 @@ wall time. Then the ratios ours / pymapf for LaCAM: SOC and wall time. PIBT runs
 PIBT solver; ours is the ``pibt`` controller through swarmpath's simulator (its controller
 time is the PIBT time; the simulator's checking and recording come on top and are shown).
 Targets: success wherever pymapf succeeds, SOC within 1.1x of pymapf's LaCAM, wall time at
-most 1/10 of it.
+most 1/10 of it. Both LaCAMs run ``--repeats`` times (3) with the same seed and the least wall
+time counts: ours takes 15-80 ms on these instances, where one pause of a shared machine
+would otherwise decide the ratio.
 
 ``--sweep`` instead runs the acceptance sweep on every MovingAI scen in src/swarmpath/data/movingai: agent
 counts from 25 to 400 (or the file's maximum) in steps of 25, ``lacam`` (8-connected, 10 s)
@@ -122,6 +124,13 @@ def run_pymapf(kind: str, blocked, starts, goals, time_limit: float):
     if sol.first_conflict() is not None:
         return "conflict", wall
     return (sol.sum_of_costs, sol.makespan), wall
+
+
+def best_of(repeats: int, run, *args):
+    """``run(*args)`` ``repeats`` times (a seeded solver gives the same result each time): its
+    result and the least wall time."""
+    results = [run(*args) for _ in range(max(1, repeats))]
+    return results[0][0], min(wall for _, wall in results)
 
 
 def run_ours_lacam(world, goals, connectivity: int, time_limit: float):
@@ -239,6 +248,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--agents", type=int, nargs="+", default=[100, 200, 300, 400])
     ap.add_argument("--time-limit", type=float, default=60.0)
+    ap.add_argument("--repeats", type=int, default=3, help="runs of each LaCAM; the least wall time counts")
     ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--controllers", nargs="+", default=["pibt", "cat-swarm"])
@@ -261,9 +271,9 @@ def main() -> None:
             lb4 = step_lower_bound(blocked, starts, goals, 4)
             lb8 = step_lower_bound(blocked, starts, goals, 8)
             print(f"\n{name} ({source}) {n} agents; lower bound {lb4} steps (4-conn), {lb8} (8-conn)")
-            py_l, py_lt = run_pymapf("lacam", blocked, starts, goals, args.time_limit)
-            ours4, o4t = run_ours_lacam(world, goals, 4, args.time_limit)
-            ours8, o8t = run_ours_lacam(world, goals, 8, args.time_limit)
+            py_l, py_lt = best_of(args.repeats, run_pymapf, "lacam", blocked, starts, goals, args.time_limit)
+            ours4, o4t = best_of(args.repeats, run_ours_lacam, world, goals, 4, args.time_limit)
+            ours8, o8t = best_of(args.repeats, run_ours_lacam, world, goals, 8, args.time_limit)
             py_p, py_pt = run_pymapf("pibt", blocked, starts, goals, args.time_limit)
             pibt4, p4c, p4w = run_ours_pibt(world, goals, 4)
             pibt8, p8c, p8w = run_ours_pibt(world, goals, 8)
