@@ -149,7 +149,8 @@ def test_disc_robots_plan_with_the_checkers_rule():
 def test_bad_parameters_raise_config_errors():
     world = swap_corridor()
     for kwargs, word in (({"connectivity": 3}, "connectivity"), ({"time_limit": 0}, "time_limit"),
-                         ({"node_limit": 0}, "node_limit")):
+                         ({"node_limit": 0}, "node_limit"), ({"restart": -0.1}, "restart"),
+                         ({"restart": float("nan")}, "restart"), ({"restart": True}, "restart")):
         with pytest.raises(ConfigError, match=word):
             LaCAMPlanner(**kwargs).plan(world, rng=0)
 
@@ -178,6 +179,35 @@ def test_statistics_over_seeds_on_crowded_maps():
             plan = LaCAMPlanner(connectivity=4).plan(world, rng=seed)
             check_plan(world, plan)
             assert plan.diagnostics["sum_of_costs"] <= 3 * lb, (name, seed)
+
+
+def crowded_room(n: int, seed: int = 0) -> World:
+    """room-32-32-4 with ``n`` robots on distinct random cells of its free component (the
+    shipped scen has 130 rows)."""
+    from scipy import ndimage
+
+    base = movingai("room-32-32-4", "room-32-32-4-even-10", 1)
+    blocked = base.static_map.blocked
+    labels, _ = ndimage.label(~blocked)
+    free = np.argwhere(labels == np.bincount(labels.ravel())[1:].argmax() + 1)[:, ::-1] + 0.5
+    rng = np.random.default_rng(seed)
+    s, g = (free[rng.choice(len(free), n, replace=False)] for _ in range(2))
+    robots = tuple(Robot(f"r{i}", tuple(a), tuple(b), 0.0, S2) for i, (a, b) in enumerate(zip(s, g)))
+    return World(base.bounds, static_map=base.static_map, robots=robots, name="crowded-room")
+
+
+@pytest.mark.slow
+def test_random_restarts_get_a_crowded_room_planned():
+    """400 robots in room-32-32-4 (8-connected): with restarts every seed plans within 20,000
+    configurations and the plan checks; without them the depth-first search gets lost on some
+    seeds (the contrast shows the test tells the two apart)."""
+    world = crowded_room(400)
+    lost = 0
+    for seed in range(6):
+        plan = LaCAMPlanner(node_limit=20_000, time_limit=120.0).plan(world, rng=seed)
+        check_plan(world, plan)
+        lost += not LaCAMPlanner(node_limit=20_000, time_limit=120.0, restart=0).plan(world, rng=seed)
+    assert lost >= 1
 
 
 # ---------------------------------------------------------------------------- the validator

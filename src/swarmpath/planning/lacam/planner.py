@@ -24,7 +24,7 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.control.pibt.core import GridGraph, check_connectivity, static_moves
 from swarmpath.errors import ConfigError
 from swarmpath.planning.base import Plan, Planner, PlanStatus, RobotPlan
-from swarmpath.planning.lacam.search import lacam_search
+from swarmpath.planning.lacam.search import RESTART, lacam_search
 from swarmpath.registry import register_planner
 from swarmpath.rng import make_rng
 from swarmpath.search.lazy_distance import LazyDistanceTables, choose_landmarks
@@ -33,7 +33,8 @@ from swarmpath.types import SeedLike
 
 @register_planner("lacam")
 class LaCAMPlanner(Planner):
-    """LaCAM (Okumura, AAAI 2023) with re-insertion (IJCAI 2023) and PIBT swaps (LaCAM3).
+    """LaCAM (Okumura, AAAI 2023) with re-insertion (IJCAI 2023), PIBT swaps and random
+    restarts (both from LaCAM3).
 
     Parameters
     ----------
@@ -45,6 +46,10 @@ class LaCAMPlanner(Planner):
         Budget of high-level nodes (configurations) created (1,000,000).
     swap : bool
         LaCAM3's swap emulation inside PIBT (True).
+    restart : float
+        Random restarts: a search step that yields no new configuration goes back to the
+        start with chance ``restart / (depth + 1)`` (0.3; 0: none; see
+        :func:`~swarmpath.planning.lacam.search.lacam_search`).
     landmarks : int or "auto"
         Landmark cells of the distance tables' differential heuristic ("auto": 8 when there is
         a robot per 4,096 free cells or more, else 0; 0: octile only).
@@ -53,7 +58,8 @@ class LaCAMPlanner(Planner):
     capabilities = Capabilities(grid_based=True, multi_robot=True, randomized=True)
 
     def __init__(self, connectivity: int = 8, time_limit: float = 10.0, node_limit: int = 1_000_000,
-                 swap: bool = True, landmarks: int | str = "auto"):
+                 swap: bool = True, landmarks: int | str = "auto", restart: float = RESTART):
+        self.restart = restart
         self.connectivity = connectivity
         self.landmarks = landmarks
         self.time_limit = time_limit
@@ -64,6 +70,9 @@ class LaCAMPlanner(Planner):
         check_connectivity(self.connectivity, "lacam")
         if not self.time_limit > 0:
             raise ConfigError(f"lacam: time_limit must be > 0 seconds, got {self.time_limit!r}")
+        if isinstance(self.restart, bool) or not isinstance(self.restart, (int, float)) \
+                or not 0 <= self.restart < float("inf"):
+            raise ConfigError(f"lacam: restart must be a finite number >= 0, got {self.restart!r}")
         if int(self.node_limit) < 1:
             raise ConfigError(f"lacam: node_limit must be >= 1, got {self.node_limit!r}")
 
@@ -111,7 +120,8 @@ class LaCAMPlanner(Planner):
         flat = lambda c: (c[:, 1] * w + c[:, 0]).astype(np.int32)  # noqa: E731
         budget = self.time_limit - (time.perf_counter() - t0)
         result = lacam_search(graph, tables, handles, flat(starts_xy), flat(goals_xy), moves, gen,
-                              time_limit=max(budget, 0.0), node_limit=int(self.node_limit), swap=self.swap)
+                              time_limit=max(budget, 0.0), node_limit=int(self.node_limit), swap=self.swap,
+                              restart=float(self.restart))
         diag.update({"nodes": result.nodes, "iterations": result.iterations, "pibt_calls": result.pibt_calls,
                      "search_time_s": result.time_s, "expanded_cells": sum(tables.expanded(hd) for hd in set(handles))})
         if result.configs is None:
