@@ -63,6 +63,19 @@ def test_a_robot_whose_goal_lies_behind_one_already_home_gets_there(controller) 
         assert "rescue" in traj.mode_names
 
 
+@pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
+def test_the_rescue_budget_counts_robot_moves_not_seconds(controller) -> None:
+    """A budget of one PIBT call per search runs out the same way on every machine: three
+    searches fail for want of work, and the run is step for step the same each time."""
+    world = text_world(DEAD_END)
+    runs = [run(world, controller, 0, rescue_work=world.n_robots) for _ in range(2)]
+    for traj in runs:
+        failed = [e for e in traj.events if e["kind"] == "rescue_failed"]
+        assert len(failed) == 3 and all("work_limit" in e["detail"] for e in failed)
+        assert traj.status == "deadlock"
+    assert np.array_equal(runs[0].positions, runs[1].positions)
+
+
 def test_the_rescue_plans_with_the_controllers_own_moves_on_four_connected_grids() -> None:
     world = text_world(DEAD_END)
     assert run(world, "pibt", 0, connectivity=4, rescue_after=0).status == "deadlock"
@@ -130,7 +143,7 @@ def test_the_rescue_stays_out_where_its_plan_would_not_be_the_whole_truth() -> N
 
 @pytest.mark.parametrize("controller", ["pibt", "cat-swarm"])
 @pytest.mark.parametrize("params", [{"rescue_after": -1}, {"rescue_after": 2.5}, {"rescue_after": True},
-                                    {"rescue_time": 0}, {"rescue_time": float("inf")}, {"rescue_time": "5"}])
+                                    {"rescue_work": 0}, {"rescue_work": 1e8}, {"rescue_work": "5"}])
 def test_bad_rescue_settings_give_one_clear_error(controller, params) -> None:
     with pytest.raises(ConfigError, match=next(iter(params))):
         run(text_world(DEAD_END), controller, 0, **params)

@@ -70,7 +70,7 @@ from swarmpath.control.pibt.exact import hold_conflicts
 from swarmpath.control.pibt.joint_escape import prefer_joint_escapes
 from swarmpath.control.pibt.rescue import (
     RESCUE_AFTER,
-    RESCUE_TIME,
+    RESCUE_WORK,
     StallRescue,
     check_rescue,
     planned_decision,
@@ -158,10 +158,10 @@ class CatSwarmController(Controller):
         evasion_veto : with random walkers, the look-ahead tiers may not pick a copy the exact
             walker value rates ten times (and 0.002) riskier than the safest clear one
             (:func:`~swarmpath.control.evasion.walker_vetoed`; True; as in ``pibt``).
-        rescue_after, rescue_time : in a static world, when progress stops for ``rescue_after``
-            steps (24; 0: off), LaCAM plans the rest from where the robots stand, in at most
-            ``rescue_time`` seconds (5), and they follow it (:mod:`swarmpath.control.pibt.rescue`;
-            as in ``pibt``).
+        rescue_after, rescue_work : in a static world, when progress stops for ``rescue_after``
+            steps (24; 0: off), LaCAM plans the rest from where the robots stand, within
+            ``rescue_work`` robot moves (10^8), and they follow it
+            (:mod:`swarmpath.control.pibt.rescue`; as in ``pibt``).
         joint_escape : robots in danger within two cells of one another choose their copies
             together, the combination of least total cost in ranking order that the checker
             allows (:mod:`swarmpath.control.pibt.joint_escape`; True; as in ``pibt``).
@@ -176,10 +176,10 @@ class CatSwarmController(Controller):
                  stalled_lookahead: int = 2, relax_after: int = 20, finish_together: bool = True,
                  hover: int | None = None, evasion_horizon: int = 8, evasion_weight: float = 1e4, gather: bool = True,
                  detour_after: int = DETOUR_AFTER, turn_game: bool = True, evasion_veto: bool = True,
-                 rescue_after: int = RESCUE_AFTER, rescue_time: float = RESCUE_TIME, joint_escape: bool = True):
+                 rescue_after: int = RESCUE_AFTER, rescue_work: int = RESCUE_WORK, joint_escape: bool = True):
         self.joint_escape = joint_escape
         self.rescue_after = rescue_after
-        self.rescue_time = rescue_time
+        self.rescue_work = rescue_work
         self.evasion_veto = evasion_veto
         self.turn_game = turn_game
         self.detour_after = detour_after
@@ -229,7 +229,7 @@ class CatSwarmController(Controller):
         if (self.patience is not None and self.patience < 1) or self.report_after < 1:
             raise ConfigError("cat-swarm: patience (or None) and report_after must be >= 1")
         check_evasion(self.evasion_horizon, self.evasion_weight, "cat-swarm")
-        check_rescue(self.rescue_after, self.rescue_time, "cat-swarm")
+        check_rescue(self.rescue_after, self.rescue_work, "cat-swarm")
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"cat-swarm: detour_after must be a whole number >= 0, got {self.detour_after!r}")
@@ -277,7 +277,7 @@ class CatSwarmController(Controller):
                                     self.evasion_horizon) if self.forecast_ is not None and self.evasion_horizon else None
         self.pushes_ = np.zeros(n, np.int64)
         self.rescue_ = StallRescue.build(world, self.grid_, self.graph_, self.tables_, 8, rng,
-                                         after=self.rescue_after, time_limit=self.rescue_time, swap=self.swap)
+                                         after=self.rescue_after, work_limit=self.rescue_work, swap=self.swap)
 
     # ------------------------------------------------------------------ eq. 12
     def _fitness(self, cells: NDArray[np.int64], in_goal_cell: BoolArray) -> FloatArray:

@@ -53,7 +53,7 @@ from swarmpath.control.pibt.exact import hold_conflicts
 from swarmpath.control.pibt.joint_escape import prefer_joint_escapes
 from swarmpath.control.pibt.rescue import (
     RESCUE_AFTER,
-    RESCUE_TIME,
+    RESCUE_WORK,
     StallRescue,
     check_rescue,
     planned_decision,
@@ -179,8 +179,10 @@ class PIBTController(Controller):
         that plan (:mod:`swarmpath.control.pibt.rescue`); PIBT alone can shuttle for ever
         where a goal lies at the bottom of a dead end behind a robot already home. 24
         (default); 0: off.
-    rescue_time : float
-        Seconds one such LaCAM search may take (5); at most three searches a run.
+    rescue_work : int
+        Budget of one such LaCAM search in robot moves (PIBT calls times robots; 10^8, about 5
+        to 20 s with 400 robots), the same on any machine so that a seed decides the run; at
+        most three searches a run.
     joint_escape : bool
         With moving obstacles: robots that must or should leave their cells and stand within
         two cells of one another choose their moves together, the combination of least total
@@ -195,10 +197,10 @@ class PIBTController(Controller):
                  finish_together: bool = True, hover: int | None = None, evasion_horizon: int = 8,
                  evasion_weight: float = 1e4, gather: bool = True, detour_after: int = DETOUR_AFTER,
                  turn_game: bool = True, evasion_veto: bool = True, rescue_after: int = RESCUE_AFTER,
-                 rescue_time: float = RESCUE_TIME, joint_escape: bool = True):
+                 rescue_work: int = RESCUE_WORK, joint_escape: bool = True):
         self.joint_escape = joint_escape
         self.rescue_after = rescue_after
-        self.rescue_time = rescue_time
+        self.rescue_work = rescue_work
         self.evasion_veto = evasion_veto
         self.turn_game = turn_game
         self.detour_after = detour_after
@@ -227,7 +229,7 @@ class PIBTController(Controller):
                                        or self.hover < 0):
             raise ConfigError(f"pibt: hover must be a whole number >= 0 or None, got {self.hover!r}")
         check_evasion(self.evasion_horizon, self.evasion_weight, "pibt")
-        check_rescue(self.rescue_after, self.rescue_time, "pibt")
+        check_rescue(self.rescue_after, self.rescue_work, "pibt")
         if isinstance(self.detour_after, bool) or not isinstance(self.detour_after, (int, np.integer)) \
                 or self.detour_after < 0:
             raise ConfigError(f"pibt: detour_after must be a whole number >= 0, got {self.detour_after!r}")
@@ -272,7 +274,7 @@ class PIBTController(Controller):
         self.evasion_ = EvasionRisk(world, grid, self.moves_, self.forecast_, radius, self.evasion_horizon) \
             if self.forecast_ is not None and self.evasion_horizon else None
         self.rescue_ = StallRescue.build(world, grid, self.graph_, self.tables_, self.connectivity, rng,
-                                         after=self.rescue_after, time_limit=self.rescue_time, swap=self.swap)
+                                         after=self.rescue_after, work_limit=self.rescue_work, swap=self.swap)
 
     def _cells(self, points: FloatArray) -> NDArray[np.int64]:
         cells = self.grid_.cell_of(np.asarray(points, float).reshape(-1, 2))

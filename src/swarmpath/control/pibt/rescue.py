@@ -18,7 +18,7 @@ distance to its goal since it last left it. Progress has stopped when
 - for ``after`` steps no robot away from its goal has beaten its record (every robot stuck);
 - one robot has shuttled ``after`` times (stepped back onto the cell it left the step before)
   without beating its record: pushed to and fro while the others still move. The simulator
-  calls a deadlock when the robots left have kept to two cells each for 60 steps. A robot
+  calls a deadlock when every robot has kept to two cells for 60 steps. A robot
   merely waiting in a queue does not count: in a crowd of 10,000 one always waits that long,
   and a search for all of them would only spend its budget; or
 - for ``2 * after`` steps the sum of the distances of the robots away from their goals has not
@@ -32,9 +32,10 @@ It applies only where LaCAM's plan is the whole truth: no moving obstacles (they
 plan made without them), every goal on its cell's centre and on a free cell, every robot on a
 cell centre when the rescue starts, and every robot fast enough for the grid's moves (a
 diagonal needs sqrt(2) cells a step). Otherwise the controller carries on by its own rules. A
-search that runs out of its budget (``time_limit`` seconds, ``node_limit`` configurations)
-leaves the controller in charge; it tries again after another stall, at most ``attempts``
-times in a run.
+search that runs out of its budget (``work_limit`` robot moves, i.e. PIBT calls times robots:
+a budget that is the same on every machine and under any load, so a run's outcome depends on
+its seed alone; a wall-clock limit made two runs of one seed differ) leaves the controller in
+charge; it tries again after another stall, at most ``attempts`` times in a run.
 """
 from __future__ import annotations
 
@@ -54,9 +55,9 @@ BoolArray = NDArray[np.bool_]
 
 #: Steps without any robot beating its own record after which a run counts as stalled.
 RESCUE_AFTER = 24
-#: Wall-clock budget of one LaCAM search (seconds) and of configurations it may create.
-RESCUE_TIME = 5.0
-RESCUE_NODES = 1_000_000
+#: Budget of one LaCAM search: robot moves PIBT may generate (calls times robots). About 5 to
+#: 20 s with 400 robots on one core; its configurations take at most 16 bytes per robot move.
+RESCUE_WORK = 100_000_000
 #: Searches a run may start at most.
 RESCUE_ATTEMPTS = 3
 
@@ -72,16 +73,15 @@ def planned_decision(positions: FloatArray, planned: FloatArray, goals: FloatArr
     return Decision(planned, modes.tolist(), events)
 
 
-def check_rescue(after, time_limit, controller: str) -> None:
-    """Raise :class:`~swarmpath.errors.ConfigError` naming the setting unless ``after`` is a
-    whole number >= 0 and ``time_limit`` a finite number > 0."""
+def check_rescue(after, work_limit, controller: str) -> None:
+    """Raise :class:`~swarmpath.errors.ConfigError` naming the setting unless ``after`` and
+    ``work_limit`` are whole numbers >= 0 and >= 1."""
     from swarmpath.errors import ConfigError
 
     if isinstance(after, bool) or not isinstance(after, (int, np.integer)) or after < 0:
         raise ConfigError(f"{controller}: rescue_after must be a whole number >= 0, got {after!r}")
-    if isinstance(time_limit, bool) or not isinstance(time_limit, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(time_limit) or time_limit <= 0:
-        raise ConfigError(f"{controller}: rescue_time must be a finite number > 0 (seconds), got {time_limit!r}")
+    if isinstance(work_limit, bool) or not isinstance(work_limit, (int, np.integer)) or work_limit < 1:
+        raise ConfigError(f"{controller}: rescue_work must be a whole number >= 1 (robot moves), got {work_limit!r}")
 
 
 class StallRescue:
@@ -94,7 +94,7 @@ class StallRescue:
     """
 
     def __init__(self, grid, graph: GridGraph, tables: LazyDistanceTables, moves: BoolArray, goal_cells: IntArray,
-                 rng: np.random.Generator, *, after: int, time_limit: float, node_limit: int, attempts: int,
+                 rng: np.random.Generator, *, after: int, work_limit: int, attempts: int,
                  swap: bool):
         self.grid = grid
         self.graph = graph
@@ -103,8 +103,7 @@ class StallRescue:
         self.goal_cells = np.asarray(goal_cells, np.int64)
         self.rng = rng
         self.after = int(after)
-        self.time_limit = float(time_limit)
-        self.node_limit = int(node_limit)
+        self.work_limit = int(work_limit)
         self.attempts = int(attempts)
         self.swap = swap
         n = len(self.goal_cells)
@@ -122,8 +121,8 @@ class StallRescue:
 
     @classmethod
     def build(cls, world, grid, graph: GridGraph, tables: LazyDistanceTables, connectivity: int,
-              rng: np.random.Generator, *, after: int = RESCUE_AFTER, time_limit: float = RESCUE_TIME,
-              node_limit: int = RESCUE_NODES, attempts: int = RESCUE_ATTEMPTS, swap: bool = True
+              rng: np.random.Generator, *, after: int = RESCUE_AFTER, work_limit: int = RESCUE_WORK,
+              attempts: int = RESCUE_ATTEMPTS, swap: bool = True
               ) -> "StallRescue | None":
         """The rescue for ``world`` on ``grid`` (the controller's own grid, conflict ``graph``
         and distance ``tables``, moves of ``connectivity``), or None where it does not apply
@@ -142,8 +141,8 @@ class StallRescue:
         if np.any(world.max_speeds * world.dt < step * (1 - 1e-9)):
             return None
         moves = static_moves(grid.blocked, connectivity)
-        return cls(grid, graph, tables, moves, goal_cells, rng, after=after, time_limit=time_limit,
-                   node_limit=node_limit, attempts=attempts, swap=swap)
+        return cls(grid, graph, tables, moves, goal_cells, rng, after=after, work_limit=work_limit,
+                   attempts=attempts, swap=swap)
 
     # ------------------------------------------------------------------ following
     @property
@@ -215,7 +214,8 @@ class StallRescue:
         try:
             flat = lambda c: (c[:, 1] * w + c[:, 0]).astype(np.int32)  # noqa: E731
             result = lacam_search(self.graph, self.tables, handles, flat(cells), flat(self.goal_cells), self.moves,
-                                  self.rng, time_limit=self.time_limit, node_limit=self.node_limit, swap=self.swap)
+                                  self.rng, time_limit=np.inf, node_limit=self.work_limit,
+                                  work_limit=self.work_limit, swap=self.swap)
         finally:
             for hd in handles.tolist():
                 self.tables.release(hd)
@@ -225,5 +225,5 @@ class StallRescue:
         return np.stack([configs % w, configs // w], axis=-1), "solved"
 
 
-__all__ = ["RESCUE_AFTER", "RESCUE_ATTEMPTS", "RESCUE_NODES", "RESCUE_TIME", "StallRescue", "check_rescue",
+__all__ = ["RESCUE_AFTER", "RESCUE_ATTEMPTS", "RESCUE_WORK", "StallRescue", "check_rescue",
            "planned_decision"]
