@@ -7,6 +7,14 @@ an invalid move is recorded and the robot stays) and contacts decided by the ind
 checker (:mod:`swarmpath.sim.collisions`); (5) everything is recorded. A run ends when
 every robot is at its goal, when the step budget is spent ("truncated"), or when the robots
 that have not arrived stopped making progress ("deadlock").
+
+The budget a caller gives is a hard limit. The default one (:func:`default_max_steps`) counts
+journeys, not crowds: in a narrow map robots queue, and a run can still be bringing robots
+home when it is spent (400 robots in a 1-wide 129 x 129 maze arrive around step 10,100 of a
+9,824-step budget). So past the default budget the run goes on while robots keep arriving:
+it ends once no new robot has come home (the number at home reached no new high) for
+:data:`ARRIVAL_GRACE` of the budget, and at :data:`MAX_EXTENSION` times the budget at the
+latest.
 """
 from __future__ import annotations
 
@@ -30,13 +38,19 @@ from swarmpath.world.world import World
 
 #: Behaviour names a run may use (trajectories store them as int8 indices).
 MAX_MODE_NAMES = 127
+#: Past the default budget a run goes on while robots keep arriving: until none has come home
+#: for this share of the budget ...
+ARRIVAL_GRACE = 0.25
+#: ... and at this many times the budget at the latest.
+MAX_EXTENSION = 4
 
 
 def default_max_steps(world, plan=None) -> int:
     """A step budget that leaves room for detours: 200 plus four times the longest journey
     (planned length, else twice the straight line or the length round the static obstacles
     it is at least, :func:`~swarmpath.sim.journeys.journey_lower_bounds`, whichever is
-    longer) in steps at the robot's speed.
+    longer) in steps at the robot's speed; a timed plan's journey lasts at least until its
+    last step (a crowded plan waits).
 
     Why the obstacles: in a maze the way round is many times the straight line. On a 33 x 33
     maze of 1-wide corridors with 25 robots the longest journey is 224 cells against 64 for
@@ -45,13 +59,16 @@ def default_max_steps(world, plan=None) -> int:
     bounds = None
     for k, r in enumerate(world.robots):
         length = None
+        steps = 0.0
         if plan is not None and k < len(plan.robots) and plan.robots[k].path is not None:
             length = plan.robots[k].length
+            times = plan.robots[k].times
+            steps = float(times[-1]) if times is not None and len(times) else 0.0
         if length is None:
             if bounds is None:
                 bounds = journey_lower_bounds(world)
             length = max(2 * math.dist(r.start, r.goal), float(bounds[k]))
-        longest = max(longest, length / (r.max_speed * world.dt))
+        longest = max(longest, length / (r.max_speed * world.dt), steps)
     return int(200 + 4 * math.ceil(longest))
 
 
@@ -81,6 +98,8 @@ class Simulator:
         self.seed = int(seed)
         budget = default_max_steps(world, plan)
         self.max_steps = int(max_steps) if max_steps is not None else budget
+        #: the default budget stretches while robots keep arriving (module docstring)
+        self.soft_budget = max_steps is None
         self.sensing = sensing or SensingConfig()
         self.deadlock_window = int(deadlock_window)
         self.progress_window = int(progress_window) if progress_window is not None else budget
@@ -110,7 +129,11 @@ class Simulator:
         mode_names: dict[str, int] = {}
         status = TRUNCATED
         act_time = 0.0
-        for step in range(1, self.max_steps + 1):
+        budget = self.max_steps
+        most_home, last_arrival = 0, 0
+        step = 0
+        while step < budget:
+            step += 1
             stepper.begin_step()
             t_act = time.perf_counter()
             decision = self.controller.act(stepper.observation())
@@ -131,10 +154,15 @@ class Simulator:
                 modes.append([mode_names.setdefault("", len(mode_names))] * n)
             for ev in decision.events:
                 events.append({"step": step, **ev})
-            if self.progress is not None:
-                self.progress(step, self.max_steps)
             arrived = stepper.at_goal()
-            if np.all(arrived):
+            home = int(np.count_nonzero(arrived))
+            if home > most_home:
+                most_home, last_arrival = home, step
+            if step == budget and self.soft_budget:
+                budget = self._stretched(step, last_arrival)
+            if self.progress is not None:
+                self.progress(step, budget)
+            if home == n:
                 status = ALL_REACHED
                 break
             if np.all(arrived | hopeless):
@@ -150,7 +178,8 @@ class Simulator:
             if step % self.deadlock_window == 0 and self._stalled(stepper.positions_, goals):
                 status = DEADLOCK
                 events.append({"step": step, "kind": "deadlock",
-                               "detail": f"no progress by unfinished robots in {self.deadlock_window} steps"})
+                               "detail": f"no robot visited more than two positions in {self.deadlock_window} "
+                                         "steps while some are away from their goals"})
                 break
         sim_time = time.perf_counter() - t0
         names = sorted(mode_names, key=mode_names.get)
@@ -159,8 +188,15 @@ class Simulator:
             meta={"controller": getattr(self.controller, "registered_name", type(self.controller).__name__),
                   "planner": self.plan.planner if self.plan is not None else None,
                   "sim_time_s": sim_time, "controller_time_s": act_time + reset_time,
-                  "controller_reset_s": reset_time, "max_steps": self.max_steps})
+                  "controller_reset_s": reset_time, "max_steps": budget})
         return dataclasses.replace(traj, modes=np.asarray(modes, np.int8) if modes else None, mode_names=names)
+
+    def _stretched(self, step: int, last_arrival: int) -> int:
+        """The budget at ``step``, the end of the current one: :data:`ARRIVAL_GRACE` of the
+        default budget past the last step a robot came home (a new high of robots at home),
+        when that is later, up to :data:`MAX_EXTENSION` times the default budget."""
+        grace = max(1, math.ceil(ARRIVAL_GRACE * self.max_steps))
+        return max(step, min(last_arrival + grace, MAX_EXTENSION * self.max_steps))
 
     @staticmethod
     def _mode_indices(names, mode_names: dict[str, int], n: int) -> list[int]:
@@ -173,10 +209,16 @@ class Simulator:
         return out
 
     def _stalled(self, positions: list, goals: np.ndarray) -> bool:
-        """True when every robot not at its goal visited at most two positions in the window."""
+        """True when some robot is away from its goal and no robot at all visited more than two
+        positions in the window: the ones left wait or shuttle, and nobody clears their way.
+
+        Robots already home count too. In a crowd robots wait for a long time while others
+        step aside and back (400 robots in a 1-wide maze following LaCAM's plan: the 13 robots
+        still away each moved once in 60 steps while robots that were home let others through,
+        and a rule on the robots away alone ended a run that was to finish 250 steps later)."""
         window = np.asarray(positions[-self.deadlock_window:])
         unfinished = np.linalg.norm(window[-1] - goals, axis=1) > GOAL_TOLERANCE
         if not unfinished.any():
             return False
-        return bool(np.all(distinct_positions(window[:, unfinished]) <= 2))
+        return bool(np.all(distinct_positions(window) <= 2))
 
