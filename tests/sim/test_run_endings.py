@@ -1,5 +1,5 @@
 """When a run ends (sim/simulator.py): a budget the caller gives is hard; the default budget
-stretches while robots keep arriving, up to four times itself; the stall rule ends runs where
+stretches while robots make progress, up to eight times itself; the stall rule ends runs where
 nobody moves beyond two positions, and not runs where robots away from home wait while others
 clear their way."""
 from __future__ import annotations
@@ -12,7 +12,7 @@ import pytest
 from swarmpath.control.base import Controller
 from swarmpath.planning.base import Plan, PlanStatus, RobotPlan
 from swarmpath.sim import Simulator, default_max_steps
-from swarmpath.sim.simulator import ARRIVAL_GRACE, MAX_EXTENSION
+from swarmpath.sim.simulator import MAX_EXTENSION, PROGRESS_GRACE
 from swarmpath.testing import validate_trajectory
 from swarmpath.world import RectBounds, Robot, World
 
@@ -47,10 +47,10 @@ class Trickle(Controller):
         return out
 
 
-def test_the_default_budget_stretches_while_robots_keep_arriving() -> None:
+def test_the_default_budget_stretches_while_robots_make_progress() -> None:
     world = rows_world(8)
     budget = default_max_steps(world)
-    gap = math.ceil(ARRIVAL_GRACE * budget) - 10            # arrivals closer together than the grace
+    gap = math.ceil(PROGRESS_GRACE * budget) - 10           # departures closer together than the grace
     assert 7 * gap > budget                                  # the last robot leaves after the budget
     traj = Simulator(world, Trickle(gap), seed=0).run()
     assert traj.status == "all_reached" and traj.n_steps > budget
@@ -60,24 +60,27 @@ def test_the_default_budget_stretches_while_robots_keep_arriving() -> None:
     assert hard.status == "truncated" and hard.n_steps == budget
 
 
-def test_the_default_budget_does_not_stretch_without_arrivals() -> None:
+def test_the_default_budget_does_not_stretch_without_progress() -> None:
     world = rows_world(2)
     budget = default_max_steps(world)
     never = Trickle(10 ** 6)                                 # pacing, never leaving
     traj = Simulator(world, never, seed=0).run()
     assert traj.status == "truncated" and traj.n_steps == budget
-    # a gap longer than the grace: the run ends at the budget, before the second robot leaves
+    # a pause longer than the grace: the run ends one grace after the second robot arrived,
+    # before the third leaves
     world = rows_world(3)
     budget = default_max_steps(world)
     gap = budget - 5
     traj = Simulator(world, Trickle(gap), seed=0).run()
-    assert traj.status == "truncated" and traj.n_steps == budget
+    assert traj.status == "truncated" and budget < traj.n_steps < 2 * gap
+    home = np.linalg.norm(traj.positions[-1] - world.goals, axis=1) <= 1e-9
+    assert home.tolist() == [True, True, False]
 
 
 def test_the_stretch_stops_at_four_times_the_budget() -> None:
     world = rows_world(40)
     budget = default_max_steps(world)
-    gap = math.ceil(ARRIVAL_GRACE * budget) // 2
+    gap = math.ceil(PROGRESS_GRACE * budget) // 2
     assert 39 * gap > MAX_EXTENSION * budget
     traj = Simulator(world, Trickle(gap), seed=0).run()
     assert traj.status == "truncated" and traj.n_steps == MAX_EXTENSION * budget
