@@ -11,7 +11,7 @@ that have not arrived stopped making progress ("deadlock").
 The budget a caller gives is a hard limit. The default one (:func:`default_max_steps`) counts
 journeys, not crowds: in a narrow map robots queue, and a run can still be bringing robots
 home when it is spent (400 robots in a 1-wide 129 x 129 maze arrive around step 10,100 of a
-9,824-step budget; 50 robots in a 1-wide 33 x 33 maze need up to 3.3 times the budget). So
+9,824-step budget; 50 robots in a 1-wide 33 x 33 maze need up to 3.4 times the budget). So
 past the default budget the run goes on while robots still make progress (some robot away
 from its goal comes closer to it than it has been since it last left it, the
 :class:`~swarmpath.sim.progress.ProgressWatch` rule): it ends once none has for

@@ -214,6 +214,8 @@ class StallRescue:
         try:
             flat = lambda c: (c[:, 1] * w + c[:, 0]).astype(np.int32)  # noqa: E731
             result = lacam_search(self.graph, self.tables, handles, flat(cells), flat(self.goal_cells), self.moves,
+                                  # the work limit binds first: a search creates at most one
+                                  # configuration per call, and a call moves every robot
                                   self.rng, time_limit=np.inf, node_limit=self.work_limit,
                                   work_limit=self.work_limit, swap=self.swap)
         finally:
