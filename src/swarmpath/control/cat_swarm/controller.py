@@ -160,7 +160,7 @@ class CatSwarmController(Controller):
             (:func:`~swarmpath.control.evasion.walker_vetoed`; True; as in ``pibt``).
         rescue_after, rescue_work : in a static world, when progress stops for ``rescue_after``
             steps (24; 0: off), LaCAM plans the rest from where the robots stand, within
-            ``rescue_work`` robot moves (10^8), and they follow it
+            ``rescue_work`` robot moves for the run's searches together (10^8), and they follow it
             (:mod:`swarmpath.control.pibt.rescue`; as in ``pibt``).
         joint_escape : robots in danger within two cells of one another choose their copies
             together, the combination of least total cost in ranking order that the checker

@@ -180,8 +180,8 @@ class PIBTController(Controller):
         where a goal lies at the bottom of a dead end behind a robot already home. 24
         (default); 0: off.
     rescue_work : int
-        Budget of one such LaCAM search in robot moves (PIBT calls times robots; 10^8, about 5
-        to 20 s with 400 robots), the same on any machine so that a seed decides the run; at
+        Budget of the run's LaCAM searches together in robot moves (PIBT calls times robots;
+        10^8, about 5 to 50 s), the same on any machine so that a seed decides the run; at
         most three searches a run.
     joint_escape : bool
         With moving obstacles: robots that must or should leave their cells and stand within

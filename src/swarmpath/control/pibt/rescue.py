@@ -32,10 +32,12 @@ It applies only where LaCAM's plan is the whole truth: no moving obstacles (they
 plan made without them), every goal on its cell's centre and on a free cell, every robot on a
 cell centre when the rescue starts, and every robot fast enough for the grid's moves (a
 diagonal needs sqrt(2) cells a step). Otherwise the controller carries on by its own rules. A
-search that runs out of its budget (``work_limit`` robot moves, i.e. PIBT calls times robots:
-a budget that is the same on every machine and under any load, so a run's outcome depends on
-its seed alone; a wall-clock limit made two runs of one seed differ) leaves the controller in
-charge; it tries again after another stall, at most ``attempts`` times in a run.
+search that runs out of its budget leaves the controller in charge; it tries again after
+another stall, at most ``attempts`` times in a run. The budget is ``work_limit`` robot moves
+(PIBT calls times robots) for all the run's searches together: the same on every machine and
+under any load, so a run's outcome depends on its seed alone (a wall-clock limit made two runs
+of one seed differ), and a run no plan can finish spends it once, not once per attempt (three
+failed searches of 100 robots in a 1-wide maze took 160 s).
 """
 from __future__ import annotations
 
@@ -54,8 +56,8 @@ BoolArray = NDArray[np.bool_]
 
 #: Steps without any robot beating its own record after which a run counts as stalled.
 RESCUE_AFTER = 24
-#: Budget of one LaCAM search: robot moves PIBT may generate (calls times robots). About 5 to
-#: 20 s with 400 robots on one core; its configurations take at most 16 bytes per robot move.
+#: Budget of a run's LaCAM searches together: robot moves PIBT may generate (calls times
+#: robots). About 5 to 50 s on one core; configurations take at most 16 bytes per robot move.
 RESCUE_WORK = 100_000_000
 #: Searches a run may start at most.
 RESCUE_ATTEMPTS = 3
@@ -103,6 +105,7 @@ class StallRescue:
         self.rng = rng
         self.after = int(after)
         self.work_limit = int(work_limit)
+        self.work_left = int(work_limit)        # the run's searches share one budget
         self.attempts = int(attempts)
         self.swap = swap
         n = len(self.goal_cells)
@@ -186,7 +189,8 @@ class StallRescue:
             self.since_sum += 1
         stalled = away.any() and (self.since >= self.after or self.since_sum >= 2 * self.after
                                   or bool(np.any(self.shuttled[away] >= self.after)))
-        if not stalled or self.tried >= self.attempts or not np.all(np.isfinite(remaining)):
+        if not stalled or self.tried >= self.attempts or self.work_left <= 0 \
+                or not np.all(np.isfinite(remaining)):
             return None, []     # a goal cut off from its robot: LaCAM has no plan to find
         if np.any(np.abs(self.grid.centers(cells) - np.asarray(positions)) > 1e-9):
             return None, []
@@ -217,12 +221,13 @@ class StallRescue:
             result = lacam_search(self.graph, self.tables, handles, flat(cells), flat(self.goal_cells), self.moves,
                                   # the work limit binds first: a search creates at most one
                                   # configuration per call, and a call moves every robot
-                                  self.rng, time_limit=np.inf, node_limit=self.work_limit,
-                                  work_limit=self.work_limit, swap=self.swap)
+                                  self.rng, time_limit=np.inf, node_limit=self.work_left,
+                                  work_limit=self.work_left, swap=self.swap)
         finally:
             for hd in handles.tolist():
                 self.tables.release(hd)
         work = int(result.pibt_calls) * len(cells)
+        self.work_left -= work
         if result.configs is None:
             return None, result.reason, work
         configs = result.configs.astype(np.int64)
