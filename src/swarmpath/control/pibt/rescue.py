@@ -41,7 +41,6 @@ failed searches of 100 robots in a 1-wide maze took 160 s).
 """
 from __future__ import annotations
 
-
 import numpy as np
 from numpy.typing import NDArray
 
@@ -104,7 +103,6 @@ class StallRescue:
         self.goal_cells = np.asarray(goal_cells, np.int64)
         self.rng = rng
         self.after = int(after)
-        self.work_limit = int(work_limit)
         self.work_left = int(work_limit)        # the run's searches share one budget
         self.attempts = int(attempts)
         self.swap = swap
@@ -189,9 +187,10 @@ class StallRescue:
             self.since_sum += 1
         stalled = away.any() and (self.since >= self.after or self.since_sum >= 2 * self.after
                                   or bool(np.any(self.shuttled[away] >= self.after)))
+        # no search either with a goal cut off from its robot: LaCAM has no plan to find
         if not stalled or self.tried >= self.attempts or self.work_left <= 0 \
                 or not np.all(np.isfinite(remaining)):
-            return None, []     # a goal cut off from its robot: LaCAM has no plan to find
+            return None, []
         if np.any(np.abs(self.grid.centers(cells) - np.asarray(positions)) > 1e-9):
             return None, []
         self.tried += 1

@@ -70,6 +70,12 @@ def next_priorities(priority: NDArray[np.float64], base: NDArray[np.float64], at
     return np.where(at_goal, base, priority + 1.0)
 
 
+def restarting(rng: np.random.Generator, restart: float, depth: int) -> bool:
+    """Whether a pop at a node of ``depth`` that yielded no new configuration sends the search
+    back to its start: chance ``restart / (depth + 1)`` (no draw when ``restart`` is 0)."""
+    return bool(restart) and rng.random() * (depth + 1) < restart
+
+
 def _constraint_moves(low) -> tuple[list[int], list[int]]:
     """(robots, moves) of a low-level node, root first (the order they were added)."""
     who, where = [], []
@@ -179,7 +185,7 @@ def lacam_search(graph: GridGraph, tables: LazyDistanceTables, handles: IntArray
                         forced=forced, forced_order=np.asarray(who, np.int32))
         calls += 1
         if not res.ok or res.conflicts:
-            if restart and rng.random() * (node.depth + 1) < restart:
+            if restarting(rng, restart, node.depth):
                 stack.append(root)
             continue
         dxy = graph_moves_xy(res.moves)
@@ -189,7 +195,7 @@ def lacam_search(graph: GridGraph, tables: LazyDistanceTables, handles: IntArray
         known = explored.get(key)
         if known is not None:
             # re-insertion (IJCAI 2023, section 4.1), or now and then a restart
-            stack.append(root if restart and rng.random() * (node.depth + 1) < restart else known)
+            stack.append(root if restarting(rng, restart, node.depth) else known)
             continue
         at_goal = np.all(new_xy == goal_cells_xy, axis=1)
         prio = next_priorities(node.priority, base, at_goal)
