@@ -93,7 +93,7 @@ def print_run_summary(out_console, s: dict[str, Any]) -> None:
             planned = f"[yellow]{safe(r['plan_reason'])}[/yellow]"
         table.add_row(safe(r["id"]), planned, _fmt_len(r["path_length"]),
                       "-" if r["arrival_step"] is None else str(r["arrival_step"]), str(r["waits"]),
-                      "yes" if r["reached"] else "[red]no[/red]")
+                      "yes" if r["reached"] else "[red]no[/red]" + (" (goal sealed)" if r.get("goal_sealed") else ""))
     out_console.print(table)
     c = s["collisions"]
     contacts = sum(c.values())
@@ -102,7 +102,11 @@ def print_run_summary(out_console, s: dict[str, Any]) -> None:
     else:
         why = []
         if s["reached"] < s["n_robots"]:
-            why.append(f"{s['n_robots'] - s['reached']} of {s['n_robots']} robots not at their goals ({s['status']})")
+            status = s["status"]
+            if s.get("sealed_goals"):
+                k = s["sealed_goals"]
+                status += f"; {k} with {'its goal' if k == 1 else 'their goals'} sealed off by moving obstacles"
+            why.append(f"{s['n_robots'] - s['reached']} of {s['n_robots']} robots not at their goals ({status})")
         if contacts:
             why.append(f"{contacts} contact{'s' if contacts != 1 else ''}")
         verdict = f"[red]not a success[/red]: {'; '.join(why)}"

@@ -3,7 +3,8 @@ trajectory (field names of the JSON form are part of the stable command line).
 
 ``success`` is honest: every robot at its goal at the end AND no contact of any kind;
 ``safe`` says the second half alone, and :meth:`RunSummary.verdict` says in words why a run
-is not a success.
+is not a success, naming the robots whose goals moving obstacles had sealed off
+(:mod:`swarmpath.metrics.sealed`): a world no controller could finish as it ended.
 """
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from typing import Any, Mapping
 
 from swarmpath.metrics.clearance import min_clearance
 from swarmpath.metrics.paths import arrival_steps, executed_lengths, first_arrival_steps, waiting_steps
+from swarmpath.metrics.sealed import sealed_goals
 from swarmpath.sim.collisions import ROBOT_MOVING, ROBOT_ROBOT, ROBOT_STATIC
 from swarmpath.sim.progress import distinct_positions
 from swarmpath.sim.trajectory import Termination, Trajectory
@@ -43,7 +45,9 @@ class RobotOutcome:
     """One robot's outcome: executed and planned lengths (world units), the step after which
     it stays at its goal (None if it is not there at the end), the first step it stood there,
     and the steps it stood still away from its goal; with a planner, its plan's status and
-    the reason in words (why a robot has no plan: a local minimum, an unreachable goal, ...)."""
+    the reason in words (why a robot has no plan: a local minimum, an unreachable goal, ...);
+    ``goal_sealed`` when it ended away from its goal and moving obstacles had sealed the goal
+    off from it over the run's last steps (:func:`~swarmpath.metrics.sealed.sealed_goals`)."""
 
     id: str
     reached: bool
@@ -54,12 +58,14 @@ class RobotOutcome:
     waits: int
     plan_status: str | None = None
     plan_reason: str | None = None
+    goal_sealed: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         return {"id": self.id, "reached": self.reached, "path_length": self.path_length,
                 "planned_length": self.planned_length, "arrival_step": self.arrival_step,
                 "first_arrival_step": self.first_arrival_step, "waits": self.waits,
-                "plan_status": self.plan_status, "plan_reason": self.plan_reason}
+                "plan_status": self.plan_status, "plan_reason": self.plan_reason,
+                "goal_sealed": self.goal_sealed}
 
 
 @dataclass(frozen=True)
@@ -85,6 +91,7 @@ class RunSummary:
     planning_time_s: float
     sim_time_s: float
     robots: tuple[RobotOutcome, ...] = field(default_factory=tuple)
+    sealed_goals: int = 0
 
     @property
     def contacts(self) -> int:
@@ -112,8 +119,11 @@ class RunSummary:
             return "success"
         reasons = []
         if not self.all_reached:
-            reasons.append(f"{self.n_robots - self.reached} of {self.n_robots} robots not at their goals "
-                           f"({self.status.value})")
+            why = self.status.value
+            if self.sealed_goals:
+                why += (f"; {self.sealed_goals} with {'its goal' if self.sealed_goals == 1 else 'their goals'} "
+                        f"sealed off by moving obstacles")
+            reasons.append(f"{self.n_robots - self.reached} of {self.n_robots} robots not at their goals ({why})")
         if not self.safe:
             reasons.append(f"{self.contacts} contact{'s' if self.contacts != 1 else ''}")
         return "; ".join(reasons)
@@ -128,7 +138,7 @@ class RunSummary:
             "reached_once": self.reached_once, "n_robots": self.n_robots, "collisions": dict(self.collisions),
             "deadlocks": self.deadlocks, "invalid_moves": self.invalid_moves, "min_clearance": self.min_clearance,
             "planning_time_s": self.planning_time_s, "sim_time_s": self.sim_time_s,
-            "robots": [r.to_dict() for r in self.robots],
+            "sealed_goals": self.sealed_goals, "robots": [r.to_dict() for r in self.robots],
         }
 
 
@@ -140,6 +150,7 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
     waits = waiting_steps(traj.positions, traj.goals)
     reached = [a is not None for a in arrivals]
     first = first_arrival_steps(traj.positions, traj.goals)
+    sealed = set(sealed_goals(world, traj)) if not all(reached) else set()
     robots = []
     for i, rid in enumerate(traj.robot_ids):
         planned = status = reason = None
@@ -147,7 +158,7 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
             rp = plan.robots[i]
             planned, status, reason = rp.length, rp.status.value, rp.reason
         robots.append(RobotOutcome(rid, reached[i], float(lengths[i]), planned, arrivals[i], first[i], int(waits[i]),
-                                   status, reason))
+                                   status, reason, i in sealed))
     everyone = all(reached)
     clearance_value = None
     if clearance and traj.n_robots:
@@ -161,4 +172,4 @@ def run_summary(world, traj: Trajectory, plan=None, *, planner: str | None = Non
         makespan=max((a for a in arrivals if a is not None), default=0) if everyone else None,
         sum_of_arrival_steps=int(sum(a for a in arrivals if a is not None)) if everyone else None,
         min_clearance=clearance_value, planning_time_s=float(planning_time_s),
-        sim_time_s=float(traj.meta.get("sim_time_s", 0.0)), robots=tuple(robots))
+        sim_time_s=float(traj.meta.get("sim_time_s", 0.0)), robots=tuple(robots), sealed_goals=len(sealed))
