@@ -26,8 +26,9 @@ passage shuttles between its two cells for ever and seals it. Printed per family
 controller: runs in which every robot arrived, runs that succeeded (every robot home at the
 end and no contact), runs with a robot-robot or robot-static contact (the controllers' rule
 forbids both), runs with a robot-moving contact on a step the robot was not cornered (every
-move it had led into an obstacle's reach), runs ending with a robot whose goal was cut off
-by obstacles that stood on a cell half of the last 200 steps, and the wall time a run.
+move it had led into an obstacle's reach), runs ending with a robot whose goal the obstacles
+had sealed off (`swarmpath.metrics.sealed`: cells no two steps in a row of the last 200 left
+clear), and the wall time a run.
 """
 from __future__ import annotations
 
@@ -42,6 +43,7 @@ from scipy.ndimage import binary_dilation, label
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_moving import checked_seeds, fail, run_all  # noqa: E402
 
+from swarmpath.metrics.sealed import sealed_goals  # noqa: E402
 from swarmpath.registry import CONTROLLERS  # noqa: E402
 from swarmpath.runner import simulate  # noqa: E402
 from swarmpath.world import Circle, Rect, RectBounds, Robot, StaticMap, World  # noqa: E402
@@ -163,27 +165,6 @@ def narrow_world(family: str, seed: int) -> World:
                  name=f"{family}-{seed}")
 
 
-def sealed_goals(world: World, traj) -> int:
-    """Robots away from their goals at the end whose goal the obstacles had cut off: the cells
-    an obstacle's box overlapped on at least half of the last 200 steps counted as blocked."""
-    blocked = world.static_map.blocked
-    h, w = blocked.shape
-    late = traj.obstacle_positions[-200:]
-    count = np.zeros((h, w))
-    ys, xs = np.mgrid[0:h, 0:w]
-    for step in late:
-        hit = np.zeros((h, w), bool)
-        for ob, p in zip(world.moving_obstacles, step):
-            hit |= (np.abs(xs + 0.5 - p[0]) < 0.5 + ob.extent) & (np.abs(ys + 0.5 - p[1]) < 0.5 + ob.extent)
-        count += hit
-    area, _ = label(~(blocked | (count >= len(late) / 2)))
-    away = np.flatnonzero(np.linalg.norm(traj.positions[-1] - world.goals, axis=1) > 1e-9)
-    goal = np.floor(world.goals[away]).astype(int)
-    here = np.clip(np.floor(traj.positions[-1, away]).astype(int), 0, [w - 1, h - 1])
-    a, b = area[goal[:, 1], goal[:, 0]], area[here[:, 1], here[:, 0]]
-    return int(np.sum((a == 0) | (a != b)))
-
-
 def one(job: tuple[str, str, int]) -> dict:
     """One run: its outcome as plain numbers."""
     family, controller, seed = job
@@ -199,7 +180,7 @@ def one(job: tuple[str, str, int]) -> dict:
     return dict(family=family, controller=controller, seed=seed, n=len(world.robots), home=home,
                 arrived=home == len(world.robots), ok=home == len(world.robots) and not kinds,
                 forbidden=kinds.count("robot_robot") + kinds.count("robot_static"), loose=int(loose),
-                sealed=sealed_goals(world, traj) if home < len(world.robots) else 0, wall=wall)
+                sealed=len(sealed_goals(world, traj)), wall=wall)
 
 
 def report(family: str, controller: str, rows: list[dict]) -> None:
