@@ -83,6 +83,8 @@ def print_run_summary(out_console, s: dict[str, Any]) -> None:
     """The per-robot table and the verdict of a run (every user text escaped)."""
     from rich.table import Table
 
+    from swarmpath.metrics.summary import unfinished_reason
+
     table = Table(title=f"{safe(s['scenario'])}: planner {safe(s['planner'])}, controller {safe(s['controller'])}, "
                         f"seed {s['seed']}")
     for col in ("robot", "offline length", "executed length", "arrival step", "waits", "reached"):
@@ -102,11 +104,7 @@ def print_run_summary(out_console, s: dict[str, Any]) -> None:
     else:
         why = []
         if s["reached"] < s["n_robots"]:
-            status = s["status"]
-            if s.get("sealed_goals"):
-                k = s["sealed_goals"]
-                status += f"; {k} with {'its goal' if k == 1 else 'their goals'} sealed off by moving obstacles"
-            why.append(f"{s['n_robots'] - s['reached']} of {s['n_robots']} robots not at their goals ({status})")
+            why.append(unfinished_reason(s["n_robots"], s["reached"], s["status"], s.get("sealed_goals", 0)))
         if contacts:
             why.append(f"{contacts} contact{'s' if contacts != 1 else ''}")
         verdict = f"[red]not a success[/red]: {'; '.join(why)}"

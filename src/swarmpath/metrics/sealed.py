@@ -39,8 +39,9 @@ def step_cover(world, positions: np.ndarray, grid) -> Iterator[np.ndarray]:
     res = grid.resolution
     eps = 1e-9 * max(res, 1.0)
     positions = np.asarray(positions, float).reshape(len(positions), -1, 2)
-    lo = np.array([ob.placed((0.0, 0.0)).bbox[0] for ob in world.moving_obstacles], float)   # (m, 2)
-    hi = np.array([ob.placed((0.0, 0.0)).bbox[1] for ob in world.moving_obstacles], float)
+    boxes = [ob.placed((0.0, 0.0)).bbox for ob in world.moving_obstacles]
+    lo = np.array([b[0] for b in boxes], float).reshape(-1, 2)                                 # (m, 2)
+    hi = np.array([b[1] for b in boxes], float).reshape(-1, 2)
     x0 = np.clip(np.floor((positions[..., 0] + lo[:, 0]) / res + eps).astype(np.int64), 0, w)
     y0 = np.clip(np.floor((positions[..., 1] + lo[:, 1]) / res + eps).astype(np.int64), 0, h)
     x1 = np.clip(np.ceil((positions[..., 0] + hi[:, 0]) / res - eps).astype(np.int64), 0, w)

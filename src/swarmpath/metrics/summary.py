@@ -40,6 +40,16 @@ def deadlocked_robots(traj: Trajectory, window: int = 60) -> list[int]:
     return [i for i, c in zip(unfinished, counts) if c <= 2]
 
 
+def unfinished_reason(n_robots: int, reached: int, status: str, sealed: int = 0) -> str:
+    """The verdict's words for robots away from their goals, e.g. "1 of 2 robots not at their
+    goals (deadlock; 1 with its goal sealed off by moving obstacles)"; shared by
+    :meth:`RunSummary.verdict` and the command line's printed summary."""
+    why = status
+    if sealed:
+        why += f"; {sealed} with {'its goal' if sealed == 1 else 'their goals'} sealed off by moving obstacles"
+    return f"{n_robots - reached} of {n_robots} robots not at their goals ({why})"
+
+
 @dataclass(frozen=True)
 class RobotOutcome:
     """One robot's outcome: executed and planned lengths (world units), the step after which
@@ -119,11 +129,7 @@ class RunSummary:
             return "success"
         reasons = []
         if not self.all_reached:
-            why = self.status.value
-            if self.sealed_goals:
-                why += (f"; {self.sealed_goals} with {'its goal' if self.sealed_goals == 1 else 'their goals'} "
-                        f"sealed off by moving obstacles")
-            reasons.append(f"{self.n_robots - self.reached} of {self.n_robots} robots not at their goals ({why})")
+            reasons.append(unfinished_reason(self.n_robots, self.reached, self.status.value, self.sealed_goals))
         if not self.safe:
             reasons.append(f"{self.contacts} contact{'s' if self.contacts != 1 else ''}")
         return "; ".join(reasons)
