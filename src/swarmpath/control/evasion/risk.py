@@ -1,12 +1,14 @@
 """The walker-evasion risk of every move of the robots near random walkers, for a grid
 controller: one :class:`~swarmpath.control.evasion.walker.WalkerEvasion` per kind of walker in
 the world, queried for each robot against each walker within reach, the walkers taken as
-independent (1 - prod(1 - risk))."""
+independent (1 - prod(1 - risk)), except the two nearest of a robot with two walkers close by,
+which are played together for two steps (:mod:`~swarmpath.control.evasion.pair`)."""
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
 
+from swarmpath.control.evasion.pair import PAIR_RADIUS, pair_move_risk
 from swarmpath.control.evasion.walker import EVASION_RADIUS, WalkerEvasion, walker_model
 from swarmpath.control.hazards import RANDOM_WALK, ObstacleForecast
 from swarmpath.world.move_rules import GRID_MOVES
@@ -30,10 +32,14 @@ class EvasionRisk:
     forecast : the controller's :class:`~swarmpath.control.hazards.ObstacleForecast`
     robot_radius : the robots' (largest) radius
     horizon : steps looked ahead (>= 1)
+    pair_radius : a robot with two walkers within this many cells plays the nearest two together
+        (:mod:`~swarmpath.control.evasion.pair`; needs ``horizon`` >= 2); 0 takes every walker
+        as independent
     """
 
     def __init__(self, world, grid, moves: NDArray[np.bool_], forecast: ObstacleForecast, robot_radius: float,
-                 horizon: int):
+                 horizon: int, pair_radius: int = PAIR_RADIUS):
+        self.pair_radius = int(pair_radius) if horizon >= 2 else 0
         self.resolution = grid.resolution
         self.shape = grid.blocked.shape
         self.moves = np.asarray(moves, bool)
@@ -69,14 +75,17 @@ class EvasionRisk:
 
     def move_risk(self, cells: IntArray, obstacle_positions: FloatArray) -> FloatArray:
         """For robots on grid ``cells`` (r, 2): the chance that each of their 9 moves meets a
-        walker within the horizon (the walkers as independent), shape (r, 9); 0 everywhere
-        when no walker is within :data:`EVASION_RADIUS` cells; 1 for moves the static map
-        forbids."""
+        walker within the horizon, shape (r, 9); 0 everywhere when no walker is within
+        :data:`EVASION_RADIUS` cells; 1 for moves the static map forbids. The walkers are taken
+        as independent, except that a robot with two within ``pair_radius`` cells plays the
+        nearest two together (:func:`~swarmpath.control.evasion.pair.pair_move_risk`): its
+        risk from them is the larger of that and their independent product."""
         cells = np.asarray(cells, np.int64).reshape(-1, 2)
         clear = np.ones((len(cells), 9))
         res = self.resolution
         positions = np.asarray(obstacle_positions, float).reshape(-1, 2)
-        for table, members in self.groups:
+        found = []                      # per group: robot rows, walker cells, distances, risks
+        for g, (table, members) in enumerate(self.groups):
             p = positions[members]
             wc = np.floor(p / res + 1e-9).astype(np.int64)[self._on_centre(p)]
             if len(wc) == 0:
@@ -86,7 +95,22 @@ class EvasionRisk:
             if len(ri) == 0:
                 continue
             risk = table.move_risk(cells[ri], wc[wi])
-            np.multiply.at(clear, ri, 1 - risk)
+            found.append((np.full(len(ri), g), ri, wc[wi], off[ri, wi], risk))
+        if found:
+            group, rows, walkers, dist, risk = (np.concatenate(x) for x in zip(*found))
+            paired = np.zeros(len(rows), bool)
+            if self.pair_radius > 0:
+                close = dist <= self.pair_radius
+                for i in np.flatnonzero(np.bincount(rows[close], minlength=len(cells)) >= 2):
+                    mine = np.flatnonzero((rows == i) & close)
+                    x, y = mine[np.argsort(dist[mine], kind="stable")[:2]]
+                    joint = pair_move_risk(self.groups[group[x]][0], self.groups[group[y]][0], self.moves,
+                                           cells[i], walkers[x], walkers[y])
+                    alone = 1 - (1 - risk[x]) * (1 - risk[y])
+                    clear[i] *= 1 - np.maximum(joint, alone)
+                    paired[[x, y]] = True
+            rest = ~paired
+            np.multiply.at(clear, rows[rest], 1 - risk[rest])
         h, w = self.shape
         allowed = self.moves[np.clip(cells[:, 1], 0, h - 1), np.clip(cells[:, 0], 0, w - 1)]
         return np.where(allowed, 1 - clear, 1.0)

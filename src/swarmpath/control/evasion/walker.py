@@ -29,7 +29,8 @@ per run, lazily: in square tiles of ``tile`` x ``tile`` cells, each layer k of a
 layer k - 1 of the tile and a one-cell border (a small C kernel, ``_evasion.c``), only where a
 query needs it. Other robots and other obstacles are not in the state: the controller's
 priority step and look-ahead tiers deal with those; several walkers near one robot are
-combined as independent (1 - prod(1 - risk)).
+combined as independent (1 - prod(1 - risk)), except two close to it, which are played
+together for two steps (:mod:`~swarmpath.control.evasion.pair`).
 """
 from __future__ import annotations
 
@@ -199,7 +200,6 @@ class WalkerEvasion:
         self._evict()
         robots = np.asarray(robots, np.int64).reshape(-1, 2)
         walkers = np.asarray(walkers, np.int64).reshape(-1, 2)
-        p = len(robots)
         R, K = self.R, self.K
         h, w = self.shape
         allowed = self.moves_[np.clip(robots[:, 1], 0, h - 1), np.clip(robots[:, 0], 0, w - 1)].astype(bool)
