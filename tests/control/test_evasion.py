@@ -9,7 +9,7 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from swarmpath.control.evasion import EVASION_RADIUS, EvasionRisk, WalkerEvasion, walker, walker_vetoed
+from swarmpath.control.evasion import EVASION_RADIUS, EvasionRisk, WalkerEvasion, vetoed_last, walker, walker_vetoed
 from swarmpath.control.hazards import ObstacleForecast
 from swarmpath.control.pibt.core import static_moves
 from swarmpath.errors import ConfigError
@@ -253,6 +253,26 @@ def test_the_tiers_may_not_pick_a_move_the_walker_value_rates_far_riskier() -> N
     v = walker_vetoed(a, r)
     best = np.argmin(np.where(a, r, np.inf), axis=1)
     assert not v[np.arange(500), best].any() and not (v & ~a).any()
+
+
+def test_a_vetoed_move_a_robot_may_still_take_ranks_after_all_its_other_candidates() -> None:
+    """vetoed_last: the numbers of seed 8477 (the turn game ranked the two open cells 6 and left
+    the vetoed cell at 4) and random rows. A vetoed allowed candidate ranks above every other
+    allowed one of its robot and never better than before; nothing else changes."""
+    rank = np.array([[4, 4, 4, 4, 6, 6, 4, 4, 4]])
+    allowed = np.array([[0, 0, 0, 0, 1, 1, 1, 0, 0]], bool)
+    vetoed = np.array([[0, 0, 0, 0, 0, 0, 1, 0, 0]], bool)
+    np.testing.assert_array_equal(vetoed_last(rank, allowed, vetoed), [[4, 4, 4, 4, 6, 6, 7, 4, 4]])
+    rng = np.random.default_rng(2)
+    rank = rng.integers(0, 10, (400, 9))
+    allowed = rng.random((400, 9)) < 0.6
+    vetoed = rng.random((400, 9)) < 0.3
+    got = vetoed_last(rank, allowed, vetoed)
+    v, legit = vetoed & allowed, allowed & ~vetoed
+    np.testing.assert_array_equal(got[~v], rank[~v])
+    assert (got >= rank).all()
+    for i in np.flatnonzero(v.any(axis=1) & legit.any(axis=1)):
+        assert got[i, v[i]].min() > got[i, legit[i]].max()
 
 
 # A 1-wide corridor (x = 6) with a dead end beside it, (6, 5), (6, 6), (7, 6), whose only way out

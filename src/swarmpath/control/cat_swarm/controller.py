@@ -45,7 +45,7 @@ from swarmpath.control.cat_swarm.deadlock import DeadlockMonitor
 from swarmpath.control.cat_swarm.ranking import dense_ranks, swarm_keys
 from swarmpath.control.cornered import CHANCE_RESOLUTION, last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
-from swarmpath.control.evasion import EvasionRisk, check_evasion, walker_vetoed
+from swarmpath.control.evasion import EvasionRisk, check_evasion, vetoed_last, walker_vetoed
 from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs, waiting_home
 from swarmpath.control.hazards import (
     DEAD_END_EXTRA,
@@ -521,6 +521,7 @@ class CatSwarmController(Controller):
                                                             tier_base[s], dest[s], v[s], threat[s], rank[s],
                                                             fallback=ranked[s])
         v |= vetoed & in_danger[r][:, None]    # one that must leave may take them, ranked last
+        rank = vetoed_last(rank, v, vetoed)
         # a robot with no sure move left takes the one an obstacle is least likely to hit
         stuck = np.flatnonzero(in_danger[r] & ~v.any(axis=1))
         if len(stuck):

@@ -24,7 +24,7 @@ from swarmpath.capabilities import Capabilities
 from swarmpath.control.base import Controller, Decision
 from swarmpath.control.cornered import last_resort, no_escape_events, ways_clear
 from swarmpath.control.detour import DETOUR_AFTER, Lingering, detour_ranking
-from swarmpath.control.evasion import EvasionRisk, check_evasion, walker_vetoed
+from swarmpath.control.evasion import EvasionRisk, check_evasion, vetoed_last, walker_vetoed
 from swarmpath.control.finish import finishing_step, gathering_step, held_discs, off_centre_discs, waiting_home
 from swarmpath.control.grid_robots import check_grid_robots
 from swarmpath.control.hazards import (
@@ -425,6 +425,7 @@ class PIBTController(Controller):
                         threatened[rows], rank, fallback=ranked)
                 # one that must leave may still take them, ranked last
                 allowed[rows] |= vetoed & urgent[rows][:, None]
+                rank = vetoed_last(rank, allowed[rows], vetoed)
                 dist[rows] += TIER_WEIGHT * rank + CLEAR_WEIGHT * cornered_penalty(allowed[rows], rank, ways)
                 ranks[rows] = rank
             if walker_risk is not None:
